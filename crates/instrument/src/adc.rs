@@ -1,0 +1,160 @@
+//! The gyro's rebalance-loop output through an ADS1256-class 24-bit ADC on SPI, with its
+//! data-ready line on an EXTI pin. The ADC runs in continuous-read mode (RDATAC): after each
+//! falling edge of DRDY the driver clocks out one 24-bit two's-complement sample.
+
+use embedded_hal::spi::Operation;
+use embedded_hal_async::digital::Wait;
+use embedded_hal_async::spi::SpiDevice;
+
+/// Full-scale positive and negative codes: a sample at either is clipped.
+pub const CODE_MAX: i32 = 0x7F_FFFF;
+pub const CODE_MIN: i32 = -0x80_0000;
+
+mod cmd {
+    pub const WREG: u8 = 0x50;
+    pub const SELFCAL: u8 = 0xF0;
+    pub const RDATAC: u8 = 0x03;
+    pub const SDATAC: u8 = 0x0F;
+}
+
+/// Why the ADC could not be used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum AdcError {
+    /// The SPI bus or the DRDY pin reported an error.
+    Bus,
+}
+
+/// Register settings written at start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// MUX register: positive and negative input (default AIN0 - AIN1, the X axis).
+    pub mux: u8,
+    /// ADCON register: clock out off, sensor detect off, PGA gain code.
+    pub adcon: u8,
+    /// DRATE register (0xA1: 1000 samples/s).
+    pub drate: u8,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            mux: 0x01,
+            adcon: 0x00,
+            drate: 0xA1,
+        }
+    }
+}
+
+impl Config {
+    /// Samples per second of the DRATE code, for the codes this project uses.
+    pub fn sample_rate_hz(&self) -> Option<u32> {
+        match self.drate {
+            0xF0 => Some(30_000),
+            0xC0 => Some(3_750),
+            0xA1 => Some(1_000),
+            0x92 => Some(500),
+            0x82 => Some(100),
+            _ => None,
+        }
+    }
+}
+
+/// An ADS1256-class ADC.
+pub struct Ads1256<SPI, DRDY> {
+    spi: SPI,
+    drdy: DRDY,
+}
+
+/// Sign-extends a 24-bit two's-complement sample.
+pub fn sample_from_bytes(b: [u8; 3]) -> i32 {
+    ((b[0] as i32) << 24 | (b[1] as i32) << 16 | (b[2] as i32) << 8) >> 8
+}
+
+/// Whether a sample sits at a full-scale code (the input is clipped).
+pub fn is_saturated(sample: i32) -> bool {
+    sample >= CODE_MAX || sample <= CODE_MIN
+}
+
+impl<SPI: SpiDevice, DRDY: Wait> Ads1256<SPI, DRDY> {
+    pub fn new(spi: SPI, drdy: DRDY) -> Self {
+        Ads1256 { spi, drdy }
+    }
+
+    /// Stops continuous reading, writes the registers, self-calibrates and starts continuous
+    /// reading.
+    pub async fn start(&mut self, cfg: &Config) -> Result<(), AdcError> {
+        let regs = [cmd::SDATAC, cmd::WREG | 0x01, 2, cfg.mux, cfg.adcon, cfg.drate];
+        self.spi.write(&regs).await.map_err(|_| AdcError::Bus)?;
+        self.spi.write(&[cmd::SELFCAL]).await.map_err(|_| AdcError::Bus)?;
+        self.drdy.wait_for_low().await.map_err(|_| AdcError::Bus)?;
+        self.spi.write(&[cmd::RDATAC]).await.map_err(|_| AdcError::Bus)?;
+        info!("adc: continuous read started, mux {} drate {}", cfg.mux, cfg.drate);
+        Ok(())
+    }
+
+    /// Waits for the next conversion and reads it.
+    pub async fn next_sample(&mut self) -> Result<i32, AdcError> {
+        self.drdy.wait_for_falling_edge().await.map_err(|_| AdcError::Bus)?;
+        let mut b = [0u8; 3];
+        self.spi
+            .transaction(&mut [Operation::Read(&mut b)])
+            .await
+            .map_err(|_| AdcError::Bus)?;
+        Ok(sample_from_bytes(b))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use embedded_hal_mock::eh1::digital::{Edge, Mock as Pin, State, Transaction as PinT};
+    use embedded_hal_mock::eh1::spi::{Mock as Spi, Transaction as SpiT};
+    use std::vec;
+
+    #[test]
+    fn sign_extension_and_saturation() {
+        assert_eq!(sample_from_bytes([0x7F, 0xFF, 0xFF]), CODE_MAX);
+        assert_eq!(sample_from_bytes([0x80, 0x00, 0x00]), CODE_MIN);
+        assert_eq!(sample_from_bytes([0xFF, 0xFF, 0xFF]), -1);
+        assert_eq!(sample_from_bytes([0x00, 0x01, 0x00]), 256);
+        assert!(is_saturated(CODE_MAX) && is_saturated(CODE_MIN) && !is_saturated(CODE_MAX - 1));
+    }
+
+    #[test]
+    fn start_then_read_two_samples() {
+        let spi = [
+            SpiT::transaction_start(),
+            SpiT::write_vec(vec![0x0F, 0x51, 2, 0x01, 0x00, 0xA1]),
+            SpiT::transaction_end(),
+            SpiT::transaction_start(),
+            SpiT::write_vec(vec![0xF0]),
+            SpiT::transaction_end(),
+            SpiT::transaction_start(),
+            SpiT::write_vec(vec![0x03]),
+            SpiT::transaction_end(),
+            SpiT::transaction_start(),
+            SpiT::read_vec(vec![0x12, 0x34, 0x56]),
+            SpiT::transaction_end(),
+            SpiT::transaction_start(),
+            SpiT::read_vec(vec![0xFF, 0xFF, 0xFE]),
+            SpiT::transaction_end(),
+        ];
+        let pin = [
+            PinT::wait_for_state(State::Low),
+            PinT::wait_for_edge(Edge::Falling),
+            PinT::wait_for_edge(Edge::Falling),
+        ];
+        let (mut s, mut p) = (Spi::new(&spi), Pin::new(&pin));
+        let mut adc = Ads1256::new(s.clone(), p.clone());
+        embassy_futures::block_on(async {
+            adc.start(&Config::default()).await.unwrap();
+            assert_eq!(adc.next_sample().await, Ok(0x123456));
+            assert_eq!(adc.next_sample().await, Ok(-2));
+        });
+        s.done();
+        p.done();
+        assert_eq!(Config::default().sample_rate_hz(), Some(1000));
+    }
+}

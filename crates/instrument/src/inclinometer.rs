@@ -1,0 +1,158 @@
+//! Two-axis inclinometer on a UART, ASCII line protocol.
+//!
+//! The driver sends `RD\r\n`; the inclinometer answers `$TLT,<x>,<y>*HH\r\n` with both
+//! elevations in degrees and `HH` the XOR of the bytes between `$` and `*` in upper-case hex
+//! (NMEA style). The driver skips anything up to the next `$`, drops lines that are too long
+//! or fail the checksum, and gives up after a timeout.
+
+use crate::clock::{Clock, with_timeout};
+use core::fmt::Write as _;
+use embedded_io_async::{Read, Write};
+
+/// Longest line accepted.
+pub const MAX_LINE: usize = 64;
+
+/// Why no reading came.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum InclError {
+    /// The UART reported an error.
+    Bus,
+    /// Nothing at all arrived before the timeout.
+    Timeout,
+    /// Bytes arrived but no valid line among them: `bad_lines` failed the checksum or the
+    /// format.
+    Garbage { bad_lines: u16 },
+}
+
+/// Driver settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// How long to wait for an answer.
+    pub timeout_ms: u32,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config { timeout_ms: 250 }
+    }
+}
+
+fn checksum(body: &[u8]) -> u8 {
+    body.iter().fold(0, |a, b| a ^ b)
+}
+
+/// Formats an answer line (what the inclinometer sends).
+pub fn format_line(x_deg: f32, y_deg: f32) -> heapless::String<MAX_LINE> {
+    let mut body = heapless::String::<MAX_LINE>::new();
+    let _ = write!(body, "TLT,{x_deg:+.5},{y_deg:+.5}");
+    let mut line = heapless::String::new();
+    let _ = write!(line, "${}*{:02X}\r\n", body, checksum(body.as_bytes()));
+    line
+}
+
+/// Parses one line (without the line end); `None` if it is not a valid answer.
+pub fn parse_line(line: &[u8]) -> Option<(f32, f32)> {
+    let line = line.strip_prefix(b"$")?;
+    let star = line.iter().position(|&b| b == b'*')?;
+    let (body, sum) = (&line[..star], &line[star + 1..]);
+    let sum = core::str::from_utf8(sum).ok()?.trim_end();
+    if sum.len() != 2 || u8::from_str_radix(sum, 16).ok()? != checksum(body) {
+        return None;
+    }
+    let mut fields = core::str::from_utf8(body).ok()?.split(',');
+    if fields.next()? != "TLT" {
+        return None;
+    }
+    let x: f32 = fields.next()?.parse().ok()?;
+    let y: f32 = fields.next()?.parse().ok()?;
+    (fields.next().is_none() && x.is_finite() && y.is_finite()).then_some((x, y))
+}
+
+/// The inclinometer driver.
+pub struct Inclinometer<U> {
+    uart: U,
+    cfg: Config,
+}
+
+impl<U: Read + Write> Inclinometer<U> {
+    pub fn new(uart: U, cfg: Config) -> Self {
+        Inclinometer { uart, cfg }
+    }
+
+    /// Asks for a reading and waits for a valid answer: `(x, y)` in degrees.
+    pub async fn read<C: Clock>(&mut self, clock: &mut C) -> Result<(f32, f32), InclError> {
+        self.uart.write_all(b"RD\r\n").await.map_err(|_| InclError::Bus)?;
+        let (mut got_bytes, mut bad_lines) = (false, 0u16);
+        let timeout = self.cfg.timeout_ms as u64 * 1000;
+        let r = with_timeout(clock, timeout, self.receive(&mut got_bytes, &mut bad_lines)).await;
+        match r {
+            Some(r) => r,
+            None if got_bytes => Err(InclError::Garbage { bad_lines }),
+            None => Err(InclError::Timeout),
+        }
+    }
+
+    async fn receive(&mut self, got_bytes: &mut bool, bad_lines: &mut u16) -> Result<(f32, f32), InclError> {
+        let mut line = heapless::Vec::<u8, MAX_LINE>::new();
+        let mut in_line = false;
+        loop {
+            let mut buf = [0u8; 16];
+            let n = self.uart.read(&mut buf).await.map_err(|_| InclError::Bus)?;
+            *got_bytes |= n > 0;
+            for &b in &buf[..n] {
+                if b == b'$' {
+                    line.clear();
+                    let _ = line.push(b);
+                    in_line = true;
+                } else if !in_line {
+                    // Skipping to the next start of line.
+                } else if b == b'\n' {
+                    in_line = false;
+                    match parse_line(&line) {
+                        Some(v) => return Ok(v),
+                        None => {
+                            *bad_lines = bad_lines.saturating_add(1);
+                            warn!("inclinometer: bad line dropped");
+                        }
+                    }
+                } else if line.push(b).is_err() {
+                    in_line = false;
+                    *bad_lines = bad_lines.saturating_add(1);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_round_trip() {
+        let l = format_line(0.01234, -1.5);
+        assert!(l.starts_with("$TLT,+0.01234,-1.50000*"));
+        let body = l.trim_end();
+        assert_eq!(parse_line(body.as_bytes()), Some((0.01234, -1.5)));
+    }
+
+    #[test]
+    fn bad_lines_are_refused() {
+        let good = format_line(0.5, 0.25);
+        let good = good.trim_end();
+        let mut flipped = std::string::String::from(good);
+        flipped.replace_range(7..8, "9");
+        for bad in [
+            &flipped[..],
+            "$TLT,+0.5,+0.25",
+            "TLT,+0.5,+0.25*00",
+            "$XYZ,+0.5,+0.25*5B",
+            "$TLT,nan,1*00",
+            "$TLT,1,2,3*00",
+        ] {
+            assert_eq!(parse_line(bad.as_bytes()), None, "{bad}");
+        }
+    }
+}

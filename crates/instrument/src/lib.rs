@@ -1,0 +1,23 @@
+//! The north finder's drivers and run logic, generic over `embedded-hal-async` and
+//! `embedded-io-async`: the firmware wires them to the STM32, the digital twin to a simulated
+//! instrument in virtual time.
+//!
+//! Logging goes to `defmt` with the `defmt` feature (firmware) and to `log` with the `log`
+//! feature (host).
+#![no_std]
+#![allow(async_fn_in_trait)]
+
+#[macro_use]
+mod fmt;
+
+pub mod adc;
+pub mod clock;
+pub mod encoder;
+pub mod inclinometer;
+pub mod link;
+pub mod record;
+pub mod run;
+pub mod stepper;
+
+#[cfg(test)]
+extern crate std;

@@ -1,0 +1,143 @@
+//! Recording lines (`shared/recording-format.md`), written without float formatting code:
+//! values go out as scaled integers, which keeps the firmware small and the digits exact.
+
+use core::fmt::{self, Write};
+
+/// Longest line this module writes.
+pub const MAX_LINE: usize = 192;
+
+/// The column header, in the order [`Record::write`] writes the values.
+pub const HEADER: &str =
+    "index,t_s,encoder_deg,rate_dph,rate_sd_dph,samples,temp_c,tilt_x_deg,tilt_y_deg,q1_dph,q2_dph,q3_dph,q4_dph";
+
+/// One position of a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Record {
+    pub index: u16,
+    pub t_s: f64,
+    pub encoder_deg: f64,
+    pub rate_dph: f64,
+    pub rate_sd_dph: f64,
+    pub samples: u32,
+    pub temp_c: f32,
+    pub tilt_x_deg: f32,
+    pub tilt_y_deg: f32,
+    pub quarters_dph: [f64; 4],
+}
+
+/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite).
+pub fn write_fixed<W: Write>(w: &mut W, x: f64, decimals: u32) -> fmt::Result {
+    if !x.is_finite() {
+        return w.write_str("nan");
+    }
+    let scale = 10u64.pow(decimals);
+    let v = nf_model::Float::round(nf_model::Float::abs(x) * scale as f64) as u64;
+    let sign = if x < 0.0 && v != 0 { "-" } else { "" };
+    if decimals == 0 {
+        return write!(w, "{sign}{v}");
+    }
+    write!(
+        w,
+        "{sign}{}.{:0width$}",
+        v / scale,
+        v % scale,
+        width = decimals as usize
+    )
+}
+
+impl Record {
+    /// The CSV line (without line end).
+    pub fn write<W: Write>(&self, w: &mut W) -> fmt::Result {
+        write!(w, "{},", self.index)?;
+        write_fixed(w, self.t_s, 3)?;
+        w.write_char(',')?;
+        write_fixed(w, self.encoder_deg, 7)?;
+        w.write_char(',')?;
+        write_fixed(w, self.rate_dph, 6)?;
+        w.write_char(',')?;
+        write_fixed(w, self.rate_sd_dph, 6)?;
+        write!(w, ",{},", self.samples)?;
+        write_fixed(w, self.temp_c as f64, 3)?;
+        w.write_char(',')?;
+        write_fixed(w, self.tilt_x_deg as f64, 5)?;
+        w.write_char(',')?;
+        write_fixed(w, self.tilt_y_deg as f64, 5)?;
+        for q in self.quarters_dph {
+            w.write_char(',')?;
+            write_fixed(w, q, 6)?;
+        }
+        Ok(())
+    }
+
+    pub fn line(&self) -> heapless::String<MAX_LINE> {
+        let mut s = heapless::String::new();
+        // The widest record is shorter than MAX_LINE.
+        let _ = self.write(&mut s);
+        s
+    }
+}
+
+/// A `# key = value` metadata line with a fixed-point value.
+pub fn meta_fixed(key: &str, value: f64, decimals: u32) -> heapless::String<MAX_LINE> {
+    let mut s = heapless::String::new();
+    let _ = write!(s, "# {key} = ");
+    let _ = write_fixed(&mut s, value, decimals);
+    s
+}
+
+/// A `# key = value` metadata line.
+pub fn meta(key: &str, value: impl fmt::Display) -> heapless::String<MAX_LINE> {
+    let mut s = heapless::String::new();
+    let _ = write!(s, "# {key} = {value}");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fixed_point_formatting() {
+        let f = |x: f64, d: u32| {
+            let mut s = heapless::String::<32>::new();
+            write_fixed(&mut s, x, d).unwrap();
+            s
+        };
+        assert_eq!(f(10.8561234567, 6), "10.856123");
+        assert_eq!(f(-0.0000004, 6), "0.000000");
+        assert_eq!(f(-0.0000006, 6), "-0.000001");
+        assert_eq!(f(359.99999999, 7), "360.0000000");
+        assert_eq!(f(-12.5, 0), "-13");
+        assert_eq!(f(f64::NAN, 3), "nan");
+    }
+
+    #[test]
+    fn record_line_has_every_column_of_the_header() {
+        let r = Record {
+            index: 3,
+            t_s: 7.1,
+            encoder_deg: 15.0,
+            rate_dph: -4.25,
+            rate_sd_dph: 0.1,
+            samples: 2000,
+            temp_c: 35.5,
+            tilt_x_deg: 0.001,
+            tilt_y_deg: -0.002,
+            quarters_dph: [1.0, 2.0, 3.0, 4.0],
+        };
+        let l = r.line();
+        assert_eq!(l.split(',').count(), HEADER.split(',').count());
+        assert!(
+            l.starts_with("3,7.100,15.0000000,-4.250000,0.100000,2000,35.500,0.00100,-0.00200,1.000000"),
+            "{l}"
+        );
+        assert_eq!(
+            meta("format", "northfinder-recording/1").as_str(),
+            "# format = northfinder-recording/1"
+        );
+        assert_eq!(
+            meta_fixed("latitude_deg", 43.8, 6).as_str(),
+            "# latitude_deg = 43.800000"
+        );
+    }
+}

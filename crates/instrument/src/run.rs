@@ -1,0 +1,518 @@
+//! The north-finding run of the paper's Sections 2 and 5: levelling check, then for each of
+//! `n` positions move (closed on the encoder), settle, dwell, record and update the running
+//! azimuth; at the end the fit with the tilt correction and its uncertainty.
+//!
+//! Nothing here panics: every device fault ends the run in a [`RunError`] that says what and
+//! where, and the report keeps the positions measured so far and their fit.
+
+use crate::adc::{AdcError, is_saturated};
+use crate::clock::{Clock, with_timeout};
+use crate::encoder::{BissEncoder, EncoderError};
+use crate::inclinometer::{InclError, Inclinometer};
+use crate::record::{self, HEADER, Record};
+use crate::stepper::{Motor, MotorError};
+use embedded_hal_async::spi::SpiBus;
+use embedded_io_async::{Read, Write};
+use nf_model::dwell::{Calibration, DwellAccumulator};
+use nf_model::fit::{AzimuthFit, FitConfig, FitError, FitResult, Obs};
+use nf_model::level::{TiltReading, fit_tilt};
+
+/// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
+pub trait GyroSource {
+    async fn next_sample(&mut self) -> Result<i32, AdcError>;
+}
+
+impl<SPI: embedded_hal_async::spi::SpiDevice, DRDY: embedded_hal_async::digital::Wait> GyroSource
+    for crate::adc::Ads1256<SPI, DRDY>
+{
+    async fn next_sample(&mut self) -> Result<i32, AdcError> {
+        crate::adc::Ads1256::next_sample(self).await
+    }
+}
+
+/// The gyro temperature sensor.
+pub trait Thermometer {
+    /// Degrees Celsius, or `None` if the sensor does not answer.
+    fn read_c(&mut self) -> Option<f32>;
+}
+
+/// Where the run receives its lines and learns of an abort.
+pub trait Sink {
+    /// One line of the recording (metadata, header or record), without line end.
+    async fn line(&mut self, line: &str);
+    /// Whether the host asked to abort.
+    fn abort_requested(&mut self) -> bool {
+        false
+    }
+}
+
+/// What to do when the levelling check finds the shaft tilted beyond the limit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum TiltPolicy {
+    Refuse,
+    Warn,
+}
+
+/// Settings of a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RunConfig {
+    /// Number of equal positions over the turn.
+    pub positions: u16,
+    pub dwell_ms: u32,
+    pub settle_ms: u32,
+    pub sample_rate_hz: u32,
+    pub latitude_deg: f32,
+    /// Largest shaft tilt (Eq. 32, at 0 and 180 deg) the levelling check accepts.
+    pub tilt_limit_deg: f32,
+    pub tilt_policy: TiltPolicy,
+    /// A move is done when the encoder is this close to the target.
+    pub position_tol_deg: f32,
+    /// Corrective moves after the first before the target counts as not reached.
+    pub max_corrections: u8,
+    /// Remove the vertical Earth rate of each position's inclinometer X reading in the fit.
+    pub tilt_correction: bool,
+    pub calibration: Calibration,
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        RunConfig {
+            positions: 72,
+            dwell_ms: 2000,
+            settle_ms: 300,
+            sample_rate_hz: 1000,
+            latitude_deg: 43.8,
+            tilt_limit_deg: 0.05,
+            tilt_policy: TiltPolicy::Refuse,
+            position_tol_deg: 0.02,
+            max_corrections: 3,
+            tilt_correction: true,
+            calibration: Calibration::default(),
+        }
+    }
+}
+
+/// Where in the run something happened.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Stage {
+    Levelling,
+    /// Moving to, settling at or dwelling at position `n` (visiting order, from 0).
+    Position(u16),
+    Fitting,
+}
+
+/// What went wrong.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Fault {
+    /// The settings cannot make a run (no positions, no samples in a dwell).
+    BadConfig,
+    /// The motor was driven but the encoder did not follow.
+    Stall {
+        commanded_steps: i32,
+        moved_counts: i32,
+    },
+    /// Still off target after all corrective moves.
+    NotReached {
+        error_counts: i32,
+    },
+    Motor(MotorError),
+    Encoder(EncoderError),
+    Inclinometer(InclError),
+    /// The gyro ADC sat at full scale.
+    AdcSaturated {
+        sample: u32,
+    },
+    /// No sample from the gyro ADC within ten sample periods.
+    AdcTimeout {
+        sample: u32,
+    },
+    Adc(AdcError),
+    Thermometer,
+    /// The levelling check found the shaft tilted beyond the limit (micro-degrees).
+    TiltOverLimit {
+        tilt_udeg: u32,
+        limit_udeg: u32,
+    },
+    Aborted,
+    Fit(FitError),
+}
+
+/// A fault and where it happened.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RunError {
+    pub stage: Stage,
+    pub fault: Fault,
+}
+
+/// The azimuth from the positions measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Azimuth {
+    pub psi_deg: f32,
+    /// Standard error of `psi` from the residuals.
+    pub sigma_arcsec: f32,
+    pub amplitude_dph: f32,
+    pub offset_dph: f32,
+    pub rss: f32,
+    pub n: u32,
+    pub tilt_corrected: bool,
+}
+
+/// The levelling check's result.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Levelling {
+    pub tilt_deg: f32,
+    pub tilt_dir_deg: f32,
+}
+
+/// Everything a run produced, whether it finished or not.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RunReport {
+    pub result: Result<(), RunError>,
+    /// Positions measured and emitted.
+    pub positions: u16,
+    pub levelling: Option<Levelling>,
+    /// The fit of the positions measured (all of them when the run finished).
+    pub azimuth: Option<Azimuth>,
+}
+
+/// The instrument as the run sees it: the firmware's own drivers on buses and pins.
+pub struct Instrument<M, ENC, G, U, T, C> {
+    pub motor: M,
+    pub encoder: BissEncoder<ENC>,
+    pub gyro: G,
+    pub inclinometer: Inclinometer<U>,
+    pub thermometer: T,
+    pub clock: C,
+}
+
+fn wrap_counts(d: i64, per_turn: i64) -> i64 {
+    let h = per_turn / 2;
+    (d + h).rem_euclid(per_turn) - h
+}
+
+struct Ctx<'a, M, ENC, G, U, T, C, S> {
+    hw: &'a mut Instrument<M, ENC, G, U, T, C>,
+    cfg: &'a RunConfig,
+    sink: &'a mut S,
+    stage: Stage,
+    per_turn: i64,
+}
+
+impl<M, ENC, G, U, T, C, S> Ctx<'_, M, ENC, G, U, T, C, S>
+where
+    M: Motor,
+    ENC: SpiBus,
+    G: GyroSource,
+    U: Read + Write,
+    T: Thermometer,
+    C: Clock,
+    S: Sink,
+{
+    fn err(&self, fault: Fault) -> RunError {
+        RunError {
+            stage: self.stage,
+            fault,
+        }
+    }
+
+    async fn encoder(&mut self) -> Result<i64, RunError> {
+        let r = self.hw.encoder.read().await;
+        r.map(|c| c as i64).map_err(|e| self.err(Fault::Encoder(e)))
+    }
+
+    async fn tilt(&mut self) -> Result<(f32, f32), RunError> {
+        let r = self.hw.inclinometer.read(&mut self.hw.clock).await;
+        r.map_err(|e| self.err(Fault::Inclinometer(e)))
+    }
+
+    fn check_abort(&mut self) -> Result<(), RunError> {
+        if self.sink.abort_requested() {
+            Err(self.err(Fault::Aborted))
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Moves to `target` counts, closing the loop on the encoder; returns where it stopped.
+    async fn move_to(&mut self, target: i64) -> Result<i64, RunError> {
+        let spr = self.hw.motor.steps_per_rev() as i64;
+        let tol = ((self.cfg.position_tol_deg as f64 / 360.0) * self.per_turn as f64) as i64;
+        let mut cur = self.encoder().await?;
+        for attempt in 0..=self.cfg.max_corrections {
+            let err = wrap_counts(target - cur, self.per_turn);
+            let steps = (err * spr + self.per_turn.signum() * err.signum() * self.per_turn / 2) / self.per_turn;
+            if err.abs() <= tol || steps == 0 {
+                return Ok(cur);
+            }
+            if attempt > 0 {
+                debug!("move: correction {} of {} steps", attempt, steps);
+            }
+            self.hw
+                .motor
+                .move_steps(steps as i32)
+                .await
+                .map_err(|e| self.err(Fault::Motor(e)))?;
+            let new = self.encoder().await?;
+            let moved = wrap_counts(new - cur, self.per_turn);
+            let expected = steps * self.per_turn / spr;
+            if moved.abs() * 2 < expected.abs() || moved.signum() != expected.signum() {
+                error!("move: stall, {} steps commanded, encoder moved {} counts", steps, moved);
+                return Err(self.err(Fault::Stall {
+                    commanded_steps: steps as i32,
+                    moved_counts: moved as i32,
+                }));
+            }
+            cur = new;
+        }
+        let err = wrap_counts(target - cur, self.per_turn);
+        if err.abs() <= tol {
+            Ok(cur)
+        } else {
+            Err(self.err(Fault::NotReached {
+                error_counts: err as i32,
+            }))
+        }
+    }
+
+    async fn levelling(&mut self) -> Result<Levelling, RunError> {
+        let mut readings = [TiltReading {
+            gamma_deg: 0.0f32,
+            x_deg: 0.0,
+            y_deg: 0.0,
+        }; 2];
+        for (i, half) in [0, self.per_turn / 2].into_iter().enumerate() {
+            let at = self.move_to(half).await?;
+            self.hw.clock.delay_us(self.cfg.settle_ms as u64 * 1000).await;
+            let (x, y) = self.tilt().await?;
+            readings[i] = TiltReading {
+                gamma_deg: (at as f64 * 360.0 / self.per_turn as f64) as f32,
+                x_deg: x,
+                y_deg: y,
+            };
+        }
+        let t = fit_tilt(&readings).map_err(|e| self.err(Fault::Fit(e)))?;
+        info!(
+            "levelling: shaft tilt {} deg towards {} deg (Eq. 32)",
+            t.tilt_deg, t.tilt_dir_deg
+        );
+        if t.tilt_deg > self.cfg.tilt_limit_deg {
+            let fault = Fault::TiltOverLimit {
+                tilt_udeg: (t.tilt_deg * 1e6) as u32,
+                limit_udeg: (self.cfg.tilt_limit_deg * 1e6) as u32,
+            };
+            match self.cfg.tilt_policy {
+                TiltPolicy::Refuse => {
+                    error!(
+                        "levelling: tilt over the limit of {} deg, run refused",
+                        self.cfg.tilt_limit_deg
+                    );
+                    return Err(self.err(fault));
+                }
+                TiltPolicy::Warn => warn!("levelling: tilt over the limit of {} deg", self.cfg.tilt_limit_deg),
+            }
+        }
+        Ok(Levelling {
+            tilt_deg: t.tilt_deg,
+            tilt_dir_deg: t.tilt_dir_deg,
+        })
+    }
+
+    /// Dwells at the current position; `target` is the commanded angle in counts.
+    async fn dwell(&mut self, index: u16, target: i64, t0: u64) -> Result<Record, RunError> {
+        let cfg = *self.cfg;
+        let expected = (cfg.dwell_ms as u64 * cfg.sample_rate_hz as u64 / 1000) as u32;
+        let period_us = 1_000_000 / cfg.sample_rate_hz.max(1) as u64;
+        let mut acc = DwellAccumulator::new(expected);
+        // The encoder is read ten times over the dwell and averaged.
+        let enc_every = (expected / 10).max(1);
+        let (mut enc_sum, mut enc_n) = (0i64, 0i64);
+        let (mut tilt, mut temp, mut t_mid) = ((f32::NAN, f32::NAN), f32::NAN, 0u64);
+        let start = self.hw.clock.now_us();
+        for i in 0..expected {
+            let s = with_timeout(&mut self.hw.clock, 10 * period_us + 10_000, self.hw.gyro.next_sample()).await;
+            let s = match s {
+                None => return Err(self.err(Fault::AdcTimeout { sample: i })),
+                Some(Err(e)) => return Err(self.err(Fault::Adc(e))),
+                Some(Ok(s)) => s,
+            };
+            if is_saturated(s) {
+                error!("dwell: ADC saturated at sample {}", i);
+                return Err(self.err(Fault::AdcSaturated { sample: i }));
+            }
+            acc.push(s);
+            if i % enc_every == 0 {
+                let c = self.encoder().await?;
+                enc_sum += wrap_counts(c - target, self.per_turn);
+                enc_n += 1;
+            }
+            if i == expected / 2 {
+                tilt = self.tilt().await?;
+                temp = self.hw.thermometer.read_c().ok_or(self.err(Fault::Thermometer))?;
+            }
+            if i % 256 == 0 {
+                self.check_abort()?;
+            }
+        }
+        t_mid = t_mid.max((start + self.hw.clock.now_us()) / 2 - t0);
+        let st = acc.stats();
+        let cal = cfg.calibration;
+        let angle = (target as f64 + enc_sum as f64 / enc_n as f64) * 360.0 / self.per_turn as f64;
+        Ok(Record {
+            index,
+            t_s: t_mid as f64 * 1e-6,
+            encoder_deg: nf_model::angle::wrap_360(angle),
+            rate_dph: cal.rate_dph(st.mean),
+            rate_sd_dph: cal.sd_dph(st.sd),
+            samples: st.samples,
+            temp_c: temp,
+            tilt_x_deg: tilt.0,
+            tilt_y_deg: tilt.1,
+            quarters_dph: st.quarters.map(|q| cal.rate_dph(q)),
+        })
+    }
+
+    async fn header(&mut self) {
+        let c = self.cfg;
+        for l in [
+            record::meta("format", "northfinder-recording/1"),
+            record::meta_fixed("latitude_deg", c.latitude_deg as f64, 6),
+            record::meta_fixed("dwell_s", c.dwell_ms as f64 / 1000.0, 3),
+            record::meta("sample_rate_hz", c.sample_rate_hz),
+            record::meta("positions", c.positions),
+            record::meta("firmware", concat!("nf-instrument ", env!("CARGO_PKG_VERSION"))),
+        ] {
+            self.sink.line(&l).await;
+        }
+        self.sink.line(HEADER).await;
+    }
+}
+
+fn summary(r: &FitResult<f32>) -> Azimuth {
+    Azimuth {
+        psi_deg: r.psi_deg,
+        sigma_arcsec: r.sigma_psi_deg * 3600.0,
+        amplitude_dph: r.amplitude_dph,
+        offset_dph: r.offset_dph,
+        rss: r.rss,
+        n: r.n,
+        tilt_corrected: r.cfg.tilt_correction_lat_deg.is_some(),
+    }
+}
+
+/// Runs one north finding. The recording goes to `sink` line by line as it is measured.
+pub async fn run<M, ENC, G, U, T, C, S>(
+    hw: &mut Instrument<M, ENC, G, U, T, C>,
+    cfg: &RunConfig,
+    sink: &mut S,
+) -> RunReport
+where
+    M: Motor,
+    ENC: SpiBus,
+    G: GyroSource,
+    U: Read + Write,
+    T: Thermometer,
+    C: Clock,
+    S: Sink,
+{
+    let per_turn = hw.encoder.counts_per_turn() as i64;
+    let mut ctx = Ctx {
+        hw,
+        cfg,
+        sink,
+        stage: Stage::Levelling,
+        per_turn,
+    };
+    let mut report = RunReport {
+        result: Ok(()),
+        positions: 0,
+        levelling: None,
+        azimuth: None,
+    };
+    let fit_cfg = FitConfig {
+        tilt_correction_lat_deg: cfg.tilt_correction.then_some(cfg.latitude_deg),
+        ..Default::default()
+    };
+    let Ok(mut fit) = AzimuthFit::new(fit_cfg) else {
+        report.result = Err(RunError {
+            stage: Stage::Levelling,
+            fault: Fault::BadConfig,
+        });
+        return report;
+    };
+    if cfg.positions == 0 || cfg.dwell_ms as u64 * cfg.sample_rate_hz as u64 / 1000 == 0 {
+        report.result = Err(RunError {
+            stage: Stage::Levelling,
+            fault: Fault::BadConfig,
+        });
+        return report;
+    }
+    info!(
+        "run: {} positions, dwell {} ms, latitude {} deg",
+        cfg.positions, cfg.dwell_ms, cfg.latitude_deg
+    );
+    report.result = async {
+        report.levelling = Some(ctx.levelling().await?);
+        ctx.header().await;
+        let t0 = ctx.hw.clock.now_us();
+        for k in 0..cfg.positions {
+            ctx.stage = Stage::Position(k);
+            ctx.check_abort()?;
+            let target = (k as i64 * per_turn + cfg.positions as i64 / 2) / cfg.positions as i64;
+            ctx.move_to(target).await?;
+            ctx.hw.clock.delay_us(cfg.settle_ms as u64 * 1000).await;
+            let rec = ctx.dwell(k, target, t0).await?;
+            ctx.sink.line(&rec.line()).await;
+            report.positions = k + 1;
+            let obs = Obs {
+                gamma_deg: rec.encoder_deg as f32,
+                t_s: rec.t_s as f32,
+                rate_dph: rec.rate_dph as f32,
+                tilt_x_deg: Some(rec.tilt_x_deg),
+                weight: 1.0,
+            };
+            fit.add(&obs).map_err(|e| ctx.err(Fault::Fit(e)))?;
+            info!(
+                "position {}: gamma {} deg, rate {} deg/h, sd {}",
+                k, obs.gamma_deg, obs.rate_dph, rec.rate_sd_dph as f32
+            );
+            if let Ok(r) = fit.solve() {
+                info!(
+                    "running azimuth {} deg +- {} arcsec after {} positions",
+                    r.psi_deg,
+                    r.sigma_psi_deg * 3600.0,
+                    r.n
+                );
+            }
+        }
+        ctx.stage = Stage::Fitting;
+        Ok(())
+    }
+    .await;
+    match fit.solve() {
+        Ok(r) => report.azimuth = Some(summary(&r)),
+        Err(e) if report.result.is_ok() => {
+            report.result = Err(RunError {
+                stage: Stage::Fitting,
+                fault: Fault::Fit(e),
+            })
+        }
+        Err(_) => {}
+    }
+    match (&report.result, &report.azimuth) {
+        (Ok(()), Some(a)) => info!(
+            "result: psi {} deg +- {} arcsec, amplitude {} deg/h, rss {} (deg/h)^2, n {}",
+            a.psi_deg, a.sigma_arcsec, a.amplitude_dph, a.rss, a.n
+        ),
+        (Err(e), _) => error!("run ended: {:?}; {} positions kept", e, report.positions),
+        _ => {}
+    }
+    report
+}

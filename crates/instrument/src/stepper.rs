@@ -1,0 +1,148 @@
+//! Stepper motor through a step/dir driver, with a trapezoidal speed profile.
+
+use crate::clock::Clock;
+use embedded_hal::digital::OutputPin;
+use nf_model::Float;
+
+/// Why a move failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum MotorError {
+    /// A step or direction pin could not be driven.
+    Pin,
+}
+
+/// The motor and its profile.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// Steps (microsteps through the gear) per shaft turn.
+    pub steps_per_rev: u32,
+    /// Start and stop speed, steps/s.
+    pub start_sps: f32,
+    /// Cruise speed, steps/s.
+    pub max_sps: f32,
+    /// Acceleration, steps/s^2.
+    pub accel_sps2: f32,
+    /// Width of the step pulse, microseconds.
+    pub pulse_us: u32,
+}
+
+impl Default for Config {
+    /// 200-step motor, 16 microsteps, 10:1 gear; a 5 deg move takes about 0.2 s.
+    fn default() -> Self {
+        Config {
+            steps_per_rev: 32_000,
+            start_sps: 400.0,
+            max_sps: 4_000.0,
+            accel_sps2: 40_000.0,
+            pulse_us: 2,
+        }
+    }
+}
+
+impl Config {
+    /// Microseconds from the start of step `i` to the next, of a move of `steps` steps:
+    /// speed `sqrt(v0^2 + 2 a k)` with `k` the steps to the nearer end, capped at `max_sps`.
+    pub fn interval_us(&self, i: u32, steps: u32) -> u32 {
+        let k = i.min(steps.saturating_sub(1).saturating_sub(i)) as f32;
+        let v = Float::sqrt(self.start_sps * self.start_sps + 2.0 * self.accel_sps2 * k).min(self.max_sps);
+        (1e6 / v.max(1.0)) as u32
+    }
+
+    /// Duration of a whole move, microseconds.
+    pub fn move_us(&self, steps: u32) -> u64 {
+        (0..steps).map(|i| self.interval_us(i, steps) as u64).sum()
+    }
+}
+
+/// Something that turns the shaft by a number of steps (positive: counter-clockwise).
+pub trait Motor {
+    async fn move_steps(&mut self, steps: i32) -> Result<(), MotorError>;
+    fn steps_per_rev(&self) -> u32;
+}
+
+/// A step/dir driver on two GPIO pins, timed by a [`Clock`].
+pub struct StepDir<STEP, DIR, C> {
+    step: STEP,
+    dir: DIR,
+    clock: C,
+    cfg: Config,
+}
+
+impl<STEP: OutputPin, DIR: OutputPin, C: Clock> StepDir<STEP, DIR, C> {
+    pub fn new(step: STEP, dir: DIR, clock: C, cfg: Config) -> Self {
+        StepDir { step, dir, clock, cfg }
+    }
+}
+
+impl<STEP: OutputPin, DIR: OutputPin, C: Clock> Motor for StepDir<STEP, DIR, C> {
+    async fn move_steps(&mut self, steps: i32) -> Result<(), MotorError> {
+        if steps >= 0 {
+            self.dir.set_high()
+        } else {
+            self.dir.set_low()
+        }
+        .map_err(|_| MotorError::Pin)?;
+        let n = steps.unsigned_abs();
+        for i in 0..n {
+            self.step.set_high().map_err(|_| MotorError::Pin)?;
+            self.clock.delay_us(self.cfg.pulse_us as u64).await;
+            self.step.set_low().map_err(|_| MotorError::Pin)?;
+            let rest = self.cfg.interval_us(i, n).saturating_sub(self.cfg.pulse_us);
+            self.clock.delay_us(rest as u64).await;
+        }
+        Ok(())
+    }
+
+    fn steps_per_rev(&self) -> u32 {
+        self.cfg.steps_per_rev
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use embedded_hal_mock::eh1::digital::{Mock, State, Transaction as T};
+    use std::vec::Vec;
+
+    struct Count(u64);
+    impl Clock for Count {
+        fn now_us(&self) -> u64 {
+            self.0
+        }
+        async fn delay_us(&mut self, us: u64) {
+            self.0 += us;
+        }
+    }
+
+    #[test]
+    fn profile_is_symmetric_trapezoid() {
+        let c = Config::default();
+        let n = 444; // 5 deg
+        let iv: Vec<u32> = (0..n).map(|i| c.interval_us(i, n)).collect();
+        assert_eq!(iv[0], 2500);
+        assert_eq!(iv[n as usize - 1], 2500);
+        assert_eq!(*iv.iter().min().unwrap(), 250);
+        for i in 0..n as usize {
+            assert_eq!(iv[i], iv[n as usize - 1 - i]);
+        }
+        assert!(c.move_us(n) < 250_000, "{}", c.move_us(n));
+    }
+
+    #[test]
+    fn pulses_and_direction() {
+        let mut step = Mock::new(&[
+            T::set(State::High),
+            T::set(State::Low),
+            T::set(State::High),
+            T::set(State::Low),
+        ]);
+        let mut dir = Mock::new(&[T::set(State::Low)]);
+        let mut m = StepDir::new(step.clone(), dir.clone(), Count(0), Config::default());
+        embassy_futures::block_on(m.move_steps(-2)).unwrap();
+        assert_eq!(m.clock.0, 5000);
+        step.done();
+        dir.done();
+    }
+}
