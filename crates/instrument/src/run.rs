@@ -20,6 +20,8 @@ use nf_model::level::{TiltReading, fit_tilt};
 /// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
 pub trait GyroSource {
     async fn next_sample(&mut self) -> Result<i32, AdcError>;
+    /// Drops samples buffered before now (taken while the shaft moved or settled).
+    fn discard_pending(&mut self) {}
 }
 
 impl<SPI: embedded_hal_async::spi::SpiDevice, DRDY: embedded_hal_async::digital::Wait> GyroSource
@@ -261,9 +263,11 @@ where
                 .await
                 .map_err(|e| self.err(Fault::Motor(e)))?;
             let new = self.encoder().await?;
-            let moved = wrap_counts(new - cur, self.per_turn);
             let expected = steps * self.per_turn / spr;
-            if moved.abs() * 2 < expected.abs() || moved.signum() != expected.signum() {
+            // How far the encoder fell short of the commanded move (wrap-safe for half turns).
+            let short = wrap_counts(new - cur - expected, self.per_turn);
+            if short.abs() * 2 > expected.abs() {
+                let moved = expected + short;
                 error!("move: stall, {} steps commanded, encoder moved {} counts", steps, moved);
                 return Err(self.err(Fault::Stall {
                     commanded_steps: steps as i32,
@@ -335,6 +339,7 @@ where
         let enc_every = (expected / 10).max(1);
         let (mut enc_sum, mut enc_n) = (0i64, 0i64);
         let (mut tilt, mut temp, mut t_mid) = ((f32::NAN, f32::NAN), f32::NAN, 0u64);
+        self.hw.gyro.discard_pending();
         let start = self.hw.clock.now_us();
         for i in 0..expected {
             let s = with_timeout(&mut self.hw.clock, 10 * period_us + 10_000, self.hw.gyro.next_sample()).await;
@@ -383,7 +388,7 @@ where
         let c = self.cfg;
         for l in [
             record::meta("format", "northfinder-recording/1"),
-            record::meta_fixed("latitude_deg", c.latitude_deg as f64, 6),
+            record::meta_fixed("latitude_deg", c.latitude_deg as f64, 5),
             record::meta_fixed("dwell_s", c.dwell_ms as f64 / 1000.0, 3),
             record::meta("sample_rate_hz", c.sample_rate_hz),
             record::meta("positions", c.positions),

@@ -1,0 +1,271 @@
+//! The simulated instrument: the physical state and what each sensor sees.
+
+use crate::rng::Rng;
+use nf_instrument::adc::{CODE_MAX, CODE_MIN};
+use nf_model::dwell::Calibration;
+use nf_model::exact::Instrument;
+use std::cell::Cell;
+
+thread_local! {
+    static NOW_US: Cell<u64> = const { Cell::new(0) };
+}
+
+/// Virtual time of the twin running on this thread (for log time stamps).
+pub fn virtual_now_us() -> u64 {
+    NOW_US.with(|c| c.get())
+}
+
+/// How the inclinometer misbehaves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum InclinometerFault {
+    #[default]
+    None,
+    /// Sends bytes, never a valid line.
+    Garbage,
+    /// Sends nothing.
+    Silent,
+}
+
+/// Faults to inject.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Faults {
+    /// The motor stops turning from this move on (0 is the first move).
+    pub stall_from_move: Option<u32>,
+    /// The encoder stops answering at this time (s).
+    pub encoder_dead_from_s: Option<f64>,
+    /// Probability that an encoder frame has a flipped bit.
+    pub encoder_crc_error_prob: f64,
+    /// The inclinometer fails from this time on (s).
+    pub inclinometer: InclinometerFault,
+    pub inclinometer_fault_from_s: f64,
+    /// A rate this large (deg/h) is added from this time (s): the ADC clips.
+    pub adc_overload_from_s: Option<f64>,
+    /// The ADC stops converting at this time (s).
+    pub adc_dead_from_s: Option<f64>,
+}
+
+/// Everything about the simulated instrument.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TwinConfig {
+    /// The exact-model physics: latitude, azimuth, tilt, gyro misalignment, scale, bias.
+    pub instrument: Instrument<f64>,
+    /// White noise of the dwell mean (deg/h) for a 2000-sample dwell; per sample it is
+    /// `sqrt(2000)` times larger.
+    pub noise_dph: f64,
+    /// Linear bias drift, deg/h per s.
+    pub bias_drift_dph_per_s: f64,
+    /// Bias random walk, deg/h per sqrt(s).
+    pub bias_walk_dph_per_sqrt_s: f64,
+    /// Bias change per degree C away from `temp0_c`.
+    pub bias_temp_dph_per_c: f64,
+    pub temp0_c: f64,
+    /// Temperature ramp, C per s.
+    pub temp_ramp_c_per_s: f64,
+    /// Decaying disturbance after each move: initial size (deg/h) and time constant (s).
+    pub settle_dph: f64,
+    pub settle_tau_s: f64,
+    /// Encoder bits per turn.
+    pub encoder_bits: u8,
+    /// Periodic encoder error: (harmonic, amplitude in arcsec, phase in deg).
+    pub encoder_error: [(u8, f64, f64); 2],
+    /// Inclinometer noise (deg) and mounting offsets of X and Y (deg).
+    pub incl_noise_deg: f64,
+    pub incl_offset_deg: (f64, f64),
+    /// Motor steps per shaft turn and the shaft's start angle.
+    pub steps_per_rev: u32,
+    pub start_deg: f64,
+    pub calibration: Calibration,
+    pub sample_rate_hz: u32,
+    pub faults: Faults,
+    pub seed: u64,
+}
+
+impl Default for TwinConfig {
+    /// The paper's instrument after levelling: 43.8 deg latitude, 0.005 deg/h per position.
+    fn default() -> Self {
+        TwinConfig {
+            instrument: Instrument {
+                latitude_deg: 43.8,
+                psi_deg: 65.5378,
+                tilt_deg: 0.002,
+                tilt_dir_deg: 140.0,
+                gyro_elev_deg: 0.01,
+                scale: 1.0,
+                bias_dph: 0.3,
+            },
+            noise_dph: 0.005,
+            bias_drift_dph_per_s: 0.0,
+            bias_walk_dph_per_sqrt_s: 1e-5,
+            bias_temp_dph_per_c: 0.0,
+            temp0_c: 40.0,
+            temp_ramp_c_per_s: 0.0,
+            settle_dph: 0.02,
+            settle_tau_s: 0.05,
+            encoder_bits: 23,
+            encoder_error: [(1, 0.0, 0.0), (2, 0.0, 0.0)],
+            incl_noise_deg: 0.0005,
+            incl_offset_deg: (0.01, -0.02),
+            steps_per_rev: 32_000,
+            start_deg: 17.3,
+            calibration: Calibration::default(),
+            sample_rate_hz: 1000,
+            faults: Faults::default(),
+            seed: 1,
+        }
+    }
+}
+
+/// The state of the simulated instrument.
+#[derive(Debug, Clone)]
+pub struct World {
+    pub cfg: TwinConfig,
+    pub rng: Rng,
+    pub now_us: u64,
+    /// True shaft angle, deg (encoder frame).
+    pub shaft_deg: f64,
+    pub moves: u32,
+    pub dir_ccw: bool,
+    /// Time the last move ended, s.
+    pub last_move_end_s: f64,
+    pub settle_sign: f64,
+    pub walk_dph: f64,
+    last_walk_s: f64,
+    /// Time of the next ADC conversion, us.
+    next_sample_us: u64,
+    in_move: bool,
+}
+
+impl World {
+    pub fn new(cfg: TwinConfig) -> Self {
+        let rng = Rng::new(cfg.seed);
+        World {
+            shaft_deg: cfg.start_deg,
+            cfg,
+            rng,
+            now_us: 0,
+            moves: 0,
+            dir_ccw: true,
+            last_move_end_s: -1e9,
+            settle_sign: 1.0,
+            walk_dph: 0.0,
+            last_walk_s: 0.0,
+            next_sample_us: 0,
+            in_move: false,
+        }
+    }
+
+    pub fn t_s(&self) -> f64 {
+        self.now_us as f64 * 1e-6
+    }
+
+    pub fn advance(&mut self, us: u64) {
+        self.now_us += us;
+        NOW_US.with(|c| c.set(self.now_us));
+    }
+
+    /// One step pulse.
+    pub fn step(&mut self) {
+        if !self.in_move {
+            self.in_move = true;
+            self.moves += 1;
+        }
+        let stalled = self.cfg.faults.stall_from_move.is_some_and(|m| self.moves > m);
+        if !stalled {
+            let d = 360.0 / self.cfg.steps_per_rev as f64;
+            self.shaft_deg = (self.shaft_deg + if self.dir_ccw { d } else { -d }).rem_euclid(360.0);
+        }
+        self.last_move_end_s = self.t_s();
+        self.settle_sign = if self.rng.unit() < 0.5 { -1.0 } else { 1.0 };
+    }
+
+    pub fn set_dir(&mut self, ccw: bool) {
+        self.in_move = false;
+        self.dir_ccw = ccw;
+    }
+
+    /// The encoder's counts, or `None` when it is dead.
+    pub fn encoder_counts(&mut self) -> Option<u32> {
+        if self.cfg.faults.encoder_dead_from_s.is_some_and(|t| self.t_s() >= t) {
+            return None;
+        }
+        self.in_move = false;
+        let err: f64 = self
+            .cfg
+            .encoder_error
+            .iter()
+            .map(|&(h, a, p)| a / 3600.0 * (h as f64 * self.shaft_deg + p).to_radians().sin())
+            .sum();
+        let per = (1u64 << self.cfg.encoder_bits) as f64;
+        Some((((self.shaft_deg + err) / 360.0 * per).round() as u64 % per as u64) as u32)
+    }
+
+    /// Whether this encoder frame gets a flipped bit.
+    pub fn encoder_frame_corrupt(&mut self) -> bool {
+        self.rng.unit() < self.cfg.faults.encoder_crc_error_prob
+    }
+
+    pub fn temperature_c(&self) -> f64 {
+        self.cfg.temp0_c + self.cfg.temp_ramp_c_per_s * self.t_s()
+    }
+
+    /// The gyro rate (deg/h) the rebalance loop outputs now, before noise.
+    pub fn rate_dph(&mut self) -> f64 {
+        let t = self.t_s();
+        let dt = t - self.last_walk_s;
+        if dt > 0.0 {
+            self.walk_dph += self.cfg.bias_walk_dph_per_sqrt_s * dt.sqrt() * self.rng.gauss();
+            self.last_walk_s = t;
+        }
+        let c = &self.cfg;
+        let since = t - self.last_move_end_s;
+        let settle = self.settle_sign * c.settle_dph * (-since / c.settle_tau_s).exp();
+        let overload = if c.faults.adc_overload_from_s.is_some_and(|s| t >= s) {
+            1000.0
+        } else {
+            0.0
+        };
+        c.instrument.rate_dph(self.shaft_deg)
+            + c.bias_drift_dph_per_s * t
+            + self.walk_dph
+            + c.bias_temp_dph_per_c * (self.temperature_c() - c.temp0_c)
+            + settle
+            + overload
+    }
+
+    /// Advances to the next ADC conversion; `None` if the ADC is dead.
+    pub fn wait_conversion(&mut self) -> Option<()> {
+        if self.cfg.faults.adc_dead_from_s.is_some_and(|t| self.t_s() >= t) {
+            return None;
+        }
+        let period = 1_000_000 / self.cfg.sample_rate_hz as u64;
+        let next = self.next_sample_us.max(self.now_us.div_ceil(period) * period);
+        let next = if next <= self.now_us { next + period } else { next };
+        self.advance(next - self.now_us);
+        self.next_sample_us = next + period;
+        Some(())
+    }
+
+    /// One ADC sample: rate plus white noise, quantised and clipped at the codes' limits.
+    pub fn adc_sample(&mut self) -> i32 {
+        let per_sample = self.cfg.noise_dph * 2000f64.sqrt();
+        let rate = self.rate_dph() + per_sample * self.rng.gauss();
+        let counts = self.cfg.calibration.counts(rate).round();
+        counts.clamp(CODE_MIN as f64, CODE_MAX as f64) as i32
+    }
+
+    /// Inclinometer readings `(x, y)` now.
+    pub fn inclinometer(&mut self) -> (f64, f64) {
+        let (ox, oy) = self.cfg.incl_offset_deg;
+        let (x, y) = self.cfg.instrument.inclinometer_deg(self.shaft_deg, ox, oy);
+        let n = self.cfg.incl_noise_deg;
+        (x + n * self.rng.gauss(), y + n * self.rng.gauss())
+    }
+
+    pub fn inclinometer_fault(&self) -> InclinometerFault {
+        if self.t_s() >= self.cfg.faults.inclinometer_fault_from_s {
+            self.cfg.faults.inclinometer
+        } else {
+            InclinometerFault::None
+        }
+    }
+}

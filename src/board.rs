@@ -1,0 +1,118 @@
+//! The STM32F407VG board: which pin and peripheral does what.
+//!
+//! | function          | peripheral        | pins                        | DMA            |
+//! |-------------------|-------------------|-----------------------------|----------------|
+//! | gyro ADC (ADS1256)| SPI1, mode 1      | PA5 SCK, PA6 MISO, PA7 MOSI, PA4 CS, PB0 DRDY (EXTI0) | DMA2 ch3 TX, ch0 RX |
+//! | encoder (BiSS-C)  | SPI2              | PB13 MA (SCK), PB14 SLO (MISO), PB15 unused MOSI | DMA1 ch4 TX, ch3 RX |
+//! | inclinometer      | USART2, 115200, interrupt-buffered | PA2 TX, PA3 RX |          |
+//! | host link         | USART1, 115200    | PA9 TX, PA10 RX             | DMA2 ch7 TX, ch5 RX |
+//! | stepper driver    | GPIO              | PE9 STEP, PE10 DIR          |                |
+//! | gyro temperature  | ADC1 IN10         | PC0 (10 mV/C sensor)        |                |
+
+use embassy_stm32::adc::{Adc, SampleTime};
+use embassy_stm32::exti::{self, ExtiInput};
+use embassy_stm32::gpio::{Level, Output, Pull, Speed};
+use embassy_stm32::mode::Async;
+use embassy_stm32::peripherals::{ADC1, PC0};
+use embassy_stm32::spi::{self, Spi};
+use embassy_stm32::time::Hertz;
+use embassy_stm32::usart::{self, BufferedUart, Uart};
+use embassy_stm32::{Config, Peri, Peripherals, bind_interrupts, dma, peripherals};
+use static_cell::ConstStaticCell;
+
+bind_interrupts!(pub struct Irqs {
+    EXTI0 => exti::InterruptHandler<embassy_stm32::interrupt::typelevel::EXTI0>;
+    USART1 => usart::InterruptHandler<peripherals::USART1>;
+    USART2 => usart::BufferedInterruptHandler<peripherals::USART2>;
+    DMA1_STREAM3 => dma::InterruptHandler<peripherals::DMA1_CH3>;
+    DMA1_STREAM4 => dma::InterruptHandler<peripherals::DMA1_CH4>;
+    DMA2_STREAM0 => dma::InterruptHandler<peripherals::DMA2_CH0>;
+    DMA2_STREAM3 => dma::InterruptHandler<peripherals::DMA2_CH3>;
+    DMA2_STREAM5 => dma::InterruptHandler<peripherals::DMA2_CH5>;
+    DMA2_STREAM7 => dma::InterruptHandler<peripherals::DMA2_CH7>;
+});
+
+/// 168 MHz from the 8 MHz crystal of the board.
+pub fn clocks() -> Config {
+    use embassy_stm32::rcc::{AHBPrescaler, APBPrescaler, Hse, HseMode, Pll, PllMul, PllPDiv, PllPreDiv, PllQDiv};
+    use embassy_stm32::rcc::{PllSource, Sysclk};
+    let mut c = Config::default();
+    c.rcc.hse = Some(Hse {
+        freq: Hertz(8_000_000),
+        mode: HseMode::Oscillator,
+    });
+    c.rcc.pll_src = PllSource::HSE;
+    c.rcc.pll = Some(Pll {
+        prediv: PllPreDiv::DIV4,
+        mul: PllMul::MUL168,
+        divp: Some(PllPDiv::DIV2),
+        divq: Some(PllQDiv::DIV7),
+        divr: None,
+    });
+    c.rcc.ahb_pre = AHBPrescaler::DIV1;
+    c.rcc.apb1_pre = APBPrescaler::DIV4;
+    c.rcc.apb2_pre = APBPrescaler::DIV2;
+    c.rcc.sys = Sysclk::PLL1_P;
+    c
+}
+
+/// The board's devices, ready for the drivers.
+pub struct Board {
+    pub adc_spi: Spi<'static, Async, spi::mode::Master>,
+    pub adc_cs: Output<'static>,
+    pub adc_drdy: ExtiInput<'static, Async>,
+    pub encoder_spi: Spi<'static, Async, spi::mode::Master>,
+    pub inclinometer: BufferedUart<'static>,
+    pub host: Uart<'static, Async>,
+    pub step: Output<'static>,
+    pub dir: Output<'static>,
+    pub thermometer: GyroThermometer,
+}
+
+/// The gyro's temperature sensor on ADC1.
+pub struct GyroThermometer {
+    adc: Adc<'static, ADC1>,
+    pin: Peri<'static, PC0>,
+}
+
+impl nf_instrument::run::Thermometer for GyroThermometer {
+    fn read_c(&mut self) -> Option<f32> {
+        let counts = self.adc.blocking_read(&mut self.pin, SampleTime::CYCLES480);
+        // 12 bits over 3.3 V, 10 mV per degree C.
+        Some(counts as f32 * 3300.0 / 4095.0 / 10.0)
+    }
+}
+
+pub fn init(p: Peripherals) -> Board {
+    let mut adc_cfg = spi::Config::default();
+    adc_cfg.frequency = Hertz(1_000_000);
+    adc_cfg.mode = spi::MODE_1;
+    let adc_spi = Spi::new(p.SPI1, p.PA5, p.PA7, p.PA6, p.DMA2_CH3, p.DMA2_CH0, Irqs, adc_cfg);
+    let mut enc_cfg = spi::Config::default();
+    enc_cfg.frequency = Hertz(2_000_000);
+    enc_cfg.mode = spi::MODE_1;
+    let encoder_spi = Spi::new(p.SPI2, p.PB13, p.PB15, p.PB14, p.DMA1_CH4, p.DMA1_CH3, Irqs, enc_cfg);
+    let mut serial = usart::Config::default();
+    serial.baudrate = 115_200;
+    // A bad baud rate is a programming error: caught on the bench at boot, never in a run.
+    // Interrupt-buffered: the line protocol is a byte stream, and no byte may be lost between reads.
+    static INCL_TX: ConstStaticCell<[u8; 64]> = ConstStaticCell::new([0; 64]);
+    static INCL_RX: ConstStaticCell<[u8; 256]> = ConstStaticCell::new([0; 256]);
+    let inclinometer =
+        BufferedUart::new(p.USART2, p.PA3, p.PA2, INCL_TX.take(), INCL_RX.take(), Irqs, serial).expect("USART2 config");
+    let host = Uart::new(p.USART1, p.PA10, p.PA9, p.DMA2_CH7, p.DMA2_CH5, Irqs, serial).expect("USART1 config");
+    Board {
+        adc_spi,
+        adc_cs: Output::new(p.PA4, Level::High, Speed::VeryHigh),
+        adc_drdy: ExtiInput::new(p.PB0, p.EXTI0, Pull::Up, Irqs),
+        encoder_spi,
+        inclinometer,
+        host,
+        step: Output::new(p.PE9, Level::Low, Speed::VeryHigh),
+        dir: Output::new(p.PE10, Level::Low, Speed::VeryHigh),
+        thermometer: GyroThermometer {
+            adc: Adc::new(p.ADC1),
+            pin: p.PC0,
+        },
+    }
+}
