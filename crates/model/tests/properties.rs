@@ -7,8 +7,16 @@ use nf_model::level::{TiltReading, fit_tilt};
 use proptest::prelude::*;
 
 fn instrument() -> impl Strategy<Value = Instrument<f64>> {
-    (-80.0..80.0f64, 0.0..360.0f64, 0.0..2.0f64, 0.0..360.0f64, -0.5..0.5f64, 0.95..1.05f64, -20.0..20.0f64).prop_map(
-        |(lat, psi, tilt, dir, elev, scale, bias)| Instrument {
+    (
+        -80.0..80.0f64,
+        0.0..360.0f64,
+        0.0..2.0f64,
+        0.0..360.0f64,
+        -0.5..0.5f64,
+        0.95..1.05f64,
+        -20.0..20.0f64,
+    )
+        .prop_map(|(lat, psi, tilt, dir, elev, scale, bias)| Instrument {
             latitude_deg: lat,
             psi_deg: psi,
             tilt_deg: tilt,
@@ -16,8 +24,7 @@ fn instrument() -> impl Strategy<Value = Instrument<f64>> {
             gyro_elev_deg: elev,
             scale,
             bias_dph: bias,
-        },
-    )
+        })
 }
 
 proptest! {
