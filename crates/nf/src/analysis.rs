@@ -1,0 +1,224 @@
+//! The fit of a recording: the azimuth with the tilt correction the recording allows, its
+//! uncertainty from the residuals and from the budgets, the residuals themselves.
+
+use crate::recording::Recording;
+use nf_model::EARTH_RATE_DPH;
+use nf_model::exact::Instrument;
+use nf_model::fit::{AzimuthFit, Drift, FitConfig, FitError, FitResult, Obs};
+use nf_model::level::{ShaftTilt, TiltReading, fit_tilt};
+use nf_model::uncertainty::{Budget, Sigmas, amplitude_dph};
+
+/// How the vertical Earth rate of a tilted shaft is removed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TiltMethod {
+    /// None: the recording has no inclinometer columns, or the user said so.
+    None,
+    /// Per position, `WE sin(lat) sin(tilt_x)`: first order in the tilt.
+    FirstOrder,
+    /// The exact model of the tilt fitted to all X and Y readings (the tilt circle), iterated
+    /// with the fitted azimuth and scale: also right to second order, for tilts of a degree.
+    Exact,
+}
+
+impl TiltMethod {
+    pub fn name(&self) -> &'static str {
+        match self {
+            TiltMethod::None => "none",
+            TiltMethod::FirstOrder => "first-order",
+            TiltMethod::Exact => "exact",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct Options {
+    /// `None`: the best the recording allows.
+    pub tilt: Option<TiltMethod>,
+    pub drift: Drift,
+    pub harmonics: u8,
+    /// Encoder uncertainty and shaft-tilt uncertainty for the budgets.
+    pub sigma_encoder_deg: f64,
+    pub sigma_tilt_deg: f64,
+    /// Gyro misalignment for Eq. 30.
+    pub gyro_elev_deg: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            tilt: None,
+            drift: Drift::None,
+            harmonics: 1,
+            sigma_encoder_deg: 0.001,
+            sigma_tilt_deg: 0.003,
+            gyro_elev_deg: 0.01,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    pub latitude_deg: f64,
+    pub fit: FitResult<f64>,
+    pub method: TiltMethod,
+    /// Per-position correction removed from the rates (deg/h).
+    pub corrections: Vec<f64>,
+    pub shaft: Option<ShaftTilt<f64>>,
+    /// `(gamma, t, rate, fitted, residual)` per position.
+    pub points: Vec<[f64; 5]>,
+    pub amplitude_predicted_dph: f64,
+    pub budget_paper: Budget<f64>,
+    pub budget_exact: Budget<f64>,
+    /// Gyro noise per position estimated from the residuals.
+    pub sigma_gyro_dph: f64,
+}
+
+fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64]) -> Result<FitResult<f64>, FitError> {
+    let obs: Vec<Obs<f64>> = rec
+        .rows
+        .iter()
+        .zip(corr)
+        .map(|(r, c)| Obs {
+            t_s: r.t_s,
+            ..Obs::new(r.encoder_deg, r.rate_dph - c)
+        })
+        .collect();
+    AzimuthFit::fit_all(cfg, &obs)
+}
+
+/// Fits a recording.
+pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
+    let lat = rec.latitude_deg;
+    let method = match opt.tilt {
+        Some(m) => m,
+        None if rec.has_tilt_xy() => TiltMethod::Exact,
+        None if rec.has_tilt_x() => TiltMethod::FirstOrder,
+        None => TiltMethod::None,
+    };
+    if method == TiltMethod::FirstOrder && !rec.has_tilt_x() {
+        return Err("the first-order tilt correction needs tilt_x_deg on every position".into());
+    }
+    if method == TiltMethod::Exact && !rec.has_tilt_xy() {
+        return Err("the exact tilt correction needs tilt_x_deg and tilt_y_deg on every position".into());
+    }
+    let cfg = FitConfig {
+        drift: opt.drift,
+        harmonics: opt.harmonics,
+        ..FitConfig::default()
+    };
+    let fail = |e: FitError| match e {
+        FitError::NonFinite { index } | FitError::BadWeight { index } | FitError::MissingTilt { index } => {
+            format!("line {}: {e}", rec.rows[index as usize].line)
+        }
+        e => format!("the fit failed: {e}"),
+    };
+    let first_order: Vec<f64> = rec
+        .rows
+        .iter()
+        .map(|r| {
+            r.tilt_x_deg
+                .map_or(0.0, |x| nf_model::fit::vertical_earth_rate_dph(lat, x))
+        })
+        .collect();
+    let mut shaft = None;
+    let (fit, corrections) = match method {
+        TiltMethod::None => (
+            plain(cfg, rec, &vec![0.0; rec.rows.len()]).map_err(fail)?,
+            vec![0.0; rec.rows.len()],
+        ),
+        TiltMethod::FirstOrder => (plain(cfg, rec, &first_order).map_err(fail)?, first_order),
+        TiltMethod::Exact => {
+            let readings: Vec<TiltReading<f64>> = rec
+                .rows
+                .iter()
+                .map(|r| TiltReading {
+                    gamma_deg: r.encoder_deg,
+                    x_deg: r.tilt_x_deg.unwrap_or(0.0),
+                    y_deg: r.tilt_y_deg.unwrap_or(0.0),
+                })
+                .collect();
+            let t = fit_tilt(&readings).map_err(|e| format!("the tilt circle fit failed: {e}"))?;
+            shaft = Some(t);
+            let mut fit = plain(cfg, rec, &first_order).map_err(fail)?;
+            let mut corr = first_order.clone();
+            for _ in 0..4 {
+                let scale = fit.amplitude_dph / amplitude_dph(lat);
+                let tilted = Instrument {
+                    latitude_deg: lat,
+                    psi_deg: fit.psi_deg,
+                    tilt_deg: t.tilt_deg,
+                    tilt_dir_deg: t.tilt_dir_deg,
+                    gyro_elev_deg: 0.0,
+                    scale,
+                    bias_dph: 0.0,
+                };
+                let level = Instrument {
+                    tilt_deg: 0.0,
+                    ..tilted
+                };
+                corr = rec
+                    .rows
+                    .iter()
+                    .map(|r| tilted.rate_dph(r.encoder_deg) - level.rate_dph(r.encoder_deg))
+                    .collect();
+                fit = plain(cfg, rec, &corr).map_err(fail)?;
+            }
+            (fit, corr)
+        }
+    };
+    let points = rec
+        .rows
+        .iter()
+        .zip(&corrections)
+        .map(|(r, c)| {
+            let f = fit.predict(r.encoder_deg, r.t_s, None) + c;
+            [r.encoder_deg, r.t_s, r.rate_dph, f, r.rate_dph - f]
+        })
+        .collect();
+    let n = fit.n;
+    let sigma_gyro_dph = fit.s2.sqrt();
+    // With the tilt measured, what is left of it is the inclinometer's uncertainty.
+    let sigma_tilt = match (method, shaft) {
+        (TiltMethod::Exact, Some(s)) => s.rms_deg * (2.0 / n as f64).sqrt(),
+        (TiltMethod::FirstOrder, _) => tilt_x_scatter(rec) * (2.0 / n as f64).sqrt(),
+        _ => opt.sigma_tilt_deg,
+    };
+    let sig = Sigmas {
+        gyro_dph: sigma_gyro_dph,
+        encoder_deg: opt.sigma_encoder_deg,
+        tilt_deg: sigma_tilt,
+    };
+    let paper_sig = Sigmas {
+        tilt_deg: opt.sigma_tilt_deg,
+        ..sig
+    };
+    Ok(Analysis {
+        latitude_deg: lat,
+        amplitude_predicted_dph: EARTH_RATE_DPH * lat.to_radians().cos(),
+        budget_paper: Budget::paper(n, &paper_sig, lat, fit.psi_deg, opt.gyro_elev_deg),
+        budget_exact: Budget::closed_form(n, &sig, lat),
+        fit,
+        method,
+        corrections,
+        shaft,
+        points,
+        sigma_gyro_dph,
+    })
+}
+
+/// Scatter (deg) of the inclinometer X readings about their tilt circle `C + A cos + B sin`.
+fn tilt_x_scatter(rec: &Recording) -> f64 {
+    let obs: Vec<Obs<f64>> = rec
+        .rows
+        .iter()
+        .map(|r| Obs::new(r.encoder_deg, r.tilt_x_deg.unwrap_or(0.0)))
+        .collect();
+    match AzimuthFit::fit_all(FitConfig::default(), &obs) {
+        Ok(f) if f.s2.is_finite() => f.s2.sqrt(),
+        // A level shaft has no circle to fit: the readings' own spread is the scatter.
+        _ => {
+            let m = obs.iter().map(|o| o.rate_dph).sum::<f64>() / obs.len() as f64;
+            (obs.iter().map(|o| (o.rate_dph - m).powi(2)).sum::<f64>() / (obs.len().max(2) - 1) as f64).sqrt()
+        }
+    }
+}

@@ -1,0 +1,147 @@
+//! The reader on recordings as other programs write them, and on every kind of bad line.
+
+use nf::recording::Recording;
+
+const GOOD: &str = "\
+# format = northfinder-recording/1
+# latitude_deg = 43.8
+# instrument = bench unit 2
+index,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg
+0,1.0,0.0,4.5,0.001,0.002
+1,3.2,90.0,-9.9,0.000,0.001
+2,5.4,180.0,-4.5,-0.001,0.000
+3,7.6,270.0,9.9,0.000,-0.001
+";
+
+#[test]
+fn reads_the_documented_layout() {
+    let r = Recording::parse(GOOD).unwrap();
+    assert_eq!(r.latitude_deg, 43.8);
+    assert_eq!(r.rows.len(), 4);
+    assert_eq!(r.rows[1].encoder_deg, 90.0);
+    assert_eq!(r.rows[3].line, 8);
+    assert!(r.has_tilt_xy());
+    assert_eq!(r.meta["instrument"], "bench unit 2");
+    assert_eq!(r.rows[0].samples, None);
+}
+
+#[test]
+fn any_column_order_extra_columns_quotes_and_crlf() {
+    let text = "# latitude_deg = 43.8\r\n# format = northfinder-recording/1\r\n# operator = someone\r\n\
+\"rate_dph\",comment,encoder_deg,t_s,index,samples\r\n\
+4.5,hello,0.0,1.0,0,2000\r\n\"-9.9\",x,90.0,3.2,1,2000\r\n\r\n";
+    let r = Recording::parse(text).unwrap();
+    assert_eq!(r.rows.len(), 2);
+    assert_eq!(
+        (r.rows[1].rate_dph, r.rows[1].encoder_deg, r.rows[1].samples),
+        (-9.9, 90.0, Some(2000))
+    );
+    assert!(!r.has_tilt_x());
+}
+
+#[test]
+fn empty_or_nan_optional_cells_are_missing_values() {
+    let text = "# format = northfinder-recording/1\n# latitude_deg = 10\nindex,t_s,encoder_deg,rate_dph,temp_c,q1_dph,q2_dph,q3_dph,q4_dph\n0,1,0,1,,1,2,3,4\n1,2,90,1,NaN,1,2,,4\n";
+    let r = Recording::parse(text).unwrap();
+    assert_eq!(r.rows[0].temp_c, None);
+    assert_eq!(r.rows[0].quarters_dph, Some([1.0, 2.0, 3.0, 4.0]));
+    assert_eq!(r.rows[1].quarters_dph, None);
+}
+
+fn error(text: &str) -> (usize, String) {
+    let e = Recording::parse(text).unwrap_err();
+    (e.line, e.to_string())
+}
+
+const HEAD: &str = "# format = northfinder-recording/1\n# latitude_deg = 43.8\nindex,t_s,encoder_deg,rate_dph\n";
+
+#[test]
+fn every_bad_recording_names_the_line_and_the_problem() {
+    let cases: &[(&str, usize, &str)] = &[
+        ("", 0, "no header"),
+        (
+            "# latitude_deg = 43.8\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            0,
+            "'format' is missing",
+        ),
+        (
+            "# format = northfinder-recording/2\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            0,
+            "not supported",
+        ),
+        (
+            "# format = northfinder-recording/1\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            0,
+            "latitude_deg' is missing",
+        ),
+        (
+            "# format = northfinder-recording/1\n# latitude_deg = 91\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            0,
+            "not a latitude",
+        ),
+        (
+            "# format = northfinder-recording/1\n# latitude_deg = north\nindex,t_s,encoder_deg,rate_dph\n",
+            0,
+            "not a latitude",
+        ),
+        ("# format = northfinder-recording/1\n# latitude_deg\n", 2, "without '='"),
+        (
+            "# format = northfinder-recording/1\n# format = northfinder-recording/1\n",
+            2,
+            "given twice",
+        ),
+        (
+            "# format = northfinder-recording/1\n# latitude_deg = 4\nindex,t_s,rate_dph\n0,1,2\n",
+            3,
+            "'encoder_deg' is missing",
+        ),
+        (
+            "# format = northfinder-recording/1\n# latitude_deg = 4\nindex,t_s,encoder_deg,rate_dph,t_s\n",
+            3,
+            "appears twice",
+        ),
+        (HEAD, 0, "no positions"),
+    ];
+    for (text, line, what) in cases {
+        let (l, msg) = error(text);
+        assert_eq!(l, *line, "{msg}");
+        assert!(msg.contains(what), "'{msg}' should say '{what}'");
+    }
+    let rows: &[(&str, &str)] = &[
+        ("0,1,0", "3 fields, the header has 4"),
+        ("0,1,0,1,5", "5 fields"),
+        ("0,1,0,fast", "rate_dph 'fast' is not a finite number"),
+        ("0,1,0,", "rate_dph is empty"),
+        ("0,1,0,inf", "not a finite number"),
+        ("0,1,360,1", "encoder_deg 360 is outside"),
+        ("0,1,-0.5,1", "outside"),
+        ("-1,1,0,1", "index '-1' is not a whole number"),
+        ("1.5,1,0,1", "is not a whole number"),
+        ("0,nan,0,1", "t_s 'nan' is not a finite number"),
+    ];
+    for (row, what) in rows {
+        let text = format!("{HEAD}0,0.5,10,1\n{row}\n");
+        let (l, msg) = error(&text);
+        assert_eq!(l, 5, "{msg}");
+        assert!(
+            msg.starts_with("line 5: ") && msg.contains(what),
+            "'{msg}' should say '{what}'"
+        );
+    }
+    let opt = "# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph,samples,rate_sd_dph,tilt_x_deg\n";
+    for (row, what) in [
+        ("0,1,0,1,12.5,0.1,0", "samples 12.5"),
+        ("0,1,0,1,5,-0.1,0", "negative"),
+        ("0,1,0,1,5,0.1,level", "tilt_x_deg 'level'"),
+    ] {
+        let (l, msg) = error(&format!("{opt}{row}\n"));
+        assert_eq!(l, 4, "{msg}");
+        assert!(msg.contains(what), "'{msg}' should say '{what}'");
+    }
+}
+
+#[test]
+fn a_missing_file_says_so() {
+    let e = Recording::read("/nonexistent/run.csv").unwrap_err();
+    assert!(e.to_string().contains("cannot read /nonexistent/run.csv"));
+}

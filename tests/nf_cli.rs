@@ -1,0 +1,213 @@
+//! `nf` on twin recordings: fits that recover psi over many seeds (also with 1 deg tilts), and
+//! every subcommand run as a user runs it, bad inputs included.
+
+use nf::analysis::{Options, TiltMethod, analyse};
+use nf::recording::Recording;
+use nf_instrument::run::{RunConfig, TiltPolicy};
+use nf_model::angle::wrap_180;
+use nf_twin::{Recorder, Rng, TwinConfig, simulate};
+use std::process::Command;
+
+fn twin_recording(twin: &TwinConfig, positions: u16) -> Recording {
+    let run = RunConfig {
+        positions,
+        dwell_ms: 500,
+        settle_ms: 200,
+        latitude_deg: twin.instrument.latitude_deg as f32,
+        tilt_policy: TiltPolicy::Warn,
+        ..RunConfig::default()
+    };
+    let mut rec = Recorder::default();
+    let (report, _) = simulate(twin, &run, &mut rec);
+    assert_eq!(report.result, Ok(()));
+    Recording::parse(&rec.text()).unwrap()
+}
+
+/// Largest |error| / sigma over `seeds` random instruments with tilts up to `max_tilt`.
+fn worst_z(seeds: u64, max_tilt: f64, opt: &Options) -> (f64, f64) {
+    let mut rng = Rng::new(99);
+    let (mut worst, mut sum2) = (0.0f64, 0.0);
+    for seed in 0..seeds {
+        let mut twin = TwinConfig {
+            seed,
+            ..TwinConfig::default()
+        };
+        twin.instrument.latitude_deg = rng.uniform(-60.0, 60.0);
+        twin.instrument.psi_deg = rng.uniform(0.0, 360.0);
+        twin.instrument.tilt_deg = rng.uniform(0.0, max_tilt);
+        twin.instrument.tilt_dir_deg = rng.uniform(0.0, 360.0);
+        twin.instrument.scale = rng.uniform(0.995, 1.005);
+        twin.start_deg = rng.uniform(0.0, 360.0);
+        let rec = twin_recording(&twin, 36);
+        let an = analyse(&rec, opt).unwrap();
+        let z = wrap_180(an.fit.psi_deg - twin.instrument.psi_deg) / an.fit.sigma_psi_deg;
+        worst = worst.max(z.abs());
+        sum2 += z * z;
+    }
+    (worst, (sum2 / seeds as f64).sqrt())
+}
+
+#[test]
+fn fit_recovers_psi_within_three_sigma_over_many_seeds() {
+    let (worst, rms) = worst_z(60, 0.005, &Options::default());
+    println!("level: worst |error|/sigma {worst:.2}, rms {rms:.2}");
+    assert!(worst < 3.5 && (0.75..1.3).contains(&rms), "{worst} {rms}");
+}
+
+#[test]
+fn fit_with_tilts_up_to_1_deg_and_inclinometer_columns() {
+    let (worst, rms) = worst_z(60, 1.0, &Options::default());
+    println!("tilt up to 1 deg, exact correction: worst |error|/sigma {worst:.2}, rms {rms:.2}");
+    assert!(worst < 3.5 && (0.75..1.3).contains(&rms), "{worst} {rms}");
+    // The same recordings with the tilt ignored are far off.
+    let (worst_none, _) = worst_z(
+        10,
+        1.0,
+        &Options {
+            tilt: Some(TiltMethod::None),
+            ..Options::default()
+        },
+    );
+    assert!(worst_none > 10.0, "{worst_none}");
+}
+
+fn nf(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_nf")).args(args).output().unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+fn tmp(name: &str) -> String {
+    let d = std::env::temp_dir().join(format!("nf-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name).to_string_lossy().into_owned()
+}
+
+#[test]
+fn simulate_then_fit_json() {
+    let rec = tmp("sim.csv");
+    let (code, _, err) = nf(&[
+        "simulate", "--n", "24", "--dwell", "0.5", "--psi", "200", "--seed", "5", "-o", &rec,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = nf(&["fit", &rec, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["n"], 24);
+    let (psi, sigma) = (j["azimuth_deg"].as_f64().unwrap(), j["sigma_arcsec"].as_f64().unwrap());
+    assert!(wrap_180(psi - 200.0).abs() * 3600.0 < 4.0 * sigma, "{psi} {sigma}");
+    assert!(j["rss"].as_f64().unwrap() > 0.0);
+    assert_eq!(j["tilt_correction"], "exact");
+    assert!((j["surveying_azimuth_deg"].as_f64().unwrap() - (360.0 - psi)).abs() < 1e-9);
+    let svg = tmp("fit.svg");
+    let (code, out, _) = nf(&["fit", &rec, "--plot", &svg, "--drift", "linear", "--harmonics", "2"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("surveying az.") && out.contains("Eq. 31 (paper)") && out.contains("drift"));
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+}
+
+#[test]
+fn fit_of_a_bad_recording_names_the_line() {
+    let bad = tmp("bad.csv");
+    std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,oops\n").unwrap();
+    let (code, _, err) = nf(&["fit", &bad]);
+    assert_eq!(code, 2);
+    assert!(err.contains("line 5") && err.contains("rate_dph 'oops'"), "{err}");
+    let (code, _, err) = nf(&["fit", "/nonexistent.csv"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("cannot read"), "{err}");
+    // Three positions at one angle: nothing to fit.
+    std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,0,1\n2,3,0,1\n").unwrap();
+    let (code, _, err) = nf(&["fit", &bad]);
+    assert_eq!(code, 1);
+    assert!(err.contains("do not determine"), "{err}");
+    let (code, _, err) = nf(&["fit", &bad, "--tilt", "exact"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("needs tilt_x_deg and tilt_y_deg"), "{err}");
+    let (code, _, _) = nf(&["fit", &bad, "--plot", &tmp("x.png")]);
+    assert_ne!(code, 0);
+}
+
+#[test]
+fn plan_budget_target_and_monte_carlo() {
+    let (code, out, err) = nf(&["plan", "--target", "15", "--mc-runs", "300", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let paper = j["budget_eq31_paper"]["total_arcsec"].as_f64().unwrap();
+    let exact = j["budget_exact"]["total_arcsec"].as_f64().unwrap();
+    assert!(
+        (paper - 16.27).abs() < 0.01 && (exact - 18.93).abs() < 0.01,
+        "{paper} {exact}"
+    );
+    assert!(j["fastest"]["n"].as_u64().unwrap() >= 4);
+    let mc = &j["monte_carlo"];
+    assert!((mc["sd_arcsec"].as_f64().unwrap() / mc["formula_arcsec"].as_f64().unwrap() - 1.0).abs() < 0.15);
+    let (code, out, _) = nf(&["plan", "--target", "1", "--mc-runs", "0"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("not reachable"), "{out}");
+    let (code, _, err) = nf(&["plan", "--n", "2"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn paper_prints_stated_and_recomputed_tables() {
+    let (code, out, _) = nf(&["paper"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("65.5378") && out.contains("65.54658"), "{out}");
+    assert!(out.contains("Table 1: the stated mean 65.5378 deg is not the mean of its rows, 65.5466 deg"));
+    assert!(out.contains("15.83") && out.contains("10.01"));
+    let (code, out, _) = nf(&["paper", "--json"]);
+    assert_eq!(code, 0);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["tables"].as_array().unwrap().len(), 4);
+    assert!(j["findings"].as_array().unwrap().len() >= 10);
+}
+
+#[test]
+fn log_turns_a_defmt_log_into_the_same_recording() {
+    let (twin, run) = (
+        TwinConfig::default(),
+        RunConfig {
+            positions: 12,
+            dwell_ms: 300,
+            ..RunConfig::default()
+        },
+    );
+    let mut rec = Recorder::default();
+    simulate(&twin, &run, &mut rec);
+    let mut log =
+        String::from("0.000000 INFO  north finder firmware 0.1.0\n└─ north_finder::firmware @ src/firmware.rs:250\n");
+    for (i, l) in rec.lines.iter().enumerate() {
+        log += &format!(
+            "{}.{:06} INFO  rec {l}\n└─ north_finder::firmware::{{impl#1}}::line @ src/firmware.rs:88\n",
+            i, i
+        );
+        log += "WARN  inclinometer: bad line dropped\n";
+    }
+    let path = tmp("run.log");
+    std::fs::write(&path, &log).unwrap();
+    let out = tmp("from-log.csv");
+    let (code, _, err) = nf(&["log", &path, "-o", &out]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), rec.text());
+    std::fs::write(&path, "INFO  nothing recorded here\n").unwrap();
+    let (code, _, err) = nf(&["log", &path]);
+    assert_eq!(code, 1);
+    assert!(err.contains("no 'rec' lines"), "{err}");
+}
+
+#[test]
+fn simulate_rejects_bad_parameters_and_reports_failed_runs() {
+    let (code, _, err) = nf(&["simulate", "--n", "2"]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = nf(&["simulate", "--lat", "95"]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = nf(&["simulate", "--bogus"]);
+    assert_eq!(code, 2, "{err}");
+    let (code, out, _) = nf(&["fit", "--help"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("--json") && out.contains("--plot"));
+}
