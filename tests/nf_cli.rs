@@ -211,3 +211,38 @@ fn simulate_rejects_bad_parameters_and_reports_failed_runs() {
     assert_eq!(code, 0);
     assert!(out.contains("--json") && out.contains("--plot"));
 }
+
+#[test]
+fn diagnose_json_schema_and_bad_inputs() {
+    let mut twin = TwinConfig::default();
+    twin.instrument.tilt_deg = 0.0;
+    twin.bias_jump = Some((40.0, 0.1));
+    let run = RunConfig {
+        positions: 36,
+        dwell_ms: 1000,
+        tilt_policy: TiltPolicy::Warn,
+        ..RunConfig::default()
+    };
+    let mut rec = Recorder::default();
+    simulate(&twin, &run, &mut rec);
+    let path = tmp("jump.csv");
+    std::fs::write(&path, rec.text()).unwrap();
+    let (code, out, err) = nf(&["diagnose", &path, "--json", "--plot", &tmp("diag.svg")]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in ["azimuth_deg", "rss"] {
+        assert!(j["baseline"][k].is_f64() && j["final"][k].is_f64(), "{k}");
+    }
+    let f = &j["findings"][0];
+    assert_eq!(f["effect"], "bias_jump");
+    assert!(f["parameters"]["size_dph"]["value"].is_f64());
+    assert!(f["rss_after"].as_f64().unwrap() < j["baseline"]["rss"].as_f64().unwrap());
+    assert!(f["azimuth_deg_after"].is_f64());
+    let (code, out, _) = nf(&["diagnose", &path]);
+    assert_eq!(code, 0);
+    assert!(out.contains("1. bias_jump") && out.contains("final:"), "{out}");
+    let (code, _, err) = nf(&["diagnose"]);
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = nf(&["diagnose", &path, "--alpha", "1.5"]);
+    assert_eq!(code, 2, "{err}");
+}

@@ -1,10 +1,14 @@
 //! `nf`, the north finder's host tool.
 
 pub mod analysis;
+pub mod diagnose;
+pub mod diagnose_eval;
+mod linfit;
 pub mod logparse;
 pub mod paper;
 pub mod plan;
 pub mod recording;
+mod stats;
 pub mod svg;
 
 mod cli;

@@ -54,6 +54,14 @@ pub struct TwinConfig {
     pub noise_dph: f64,
     /// Linear bias drift, deg/h per s.
     pub bias_drift_dph_per_s: f64,
+    /// Quadratic bias drift, deg/h per s^2.
+    pub bias_drift2_dph_per_s2: f64,
+    /// A step of the bias: `(time s, size deg/h)`.
+    pub bias_jump: Option<(f64, f64)>,
+    /// Scale-factor nonlinearity: output gains `k2 * rate^2`, 1/(deg/h).
+    pub nonlinearity_per_dph: f64,
+    /// Disturbances added to the gyro output: `(from s, to s, deg/h)`.
+    pub disturbances: Vec<(f64, f64, f64)>,
     /// Bias random walk, deg/h per sqrt(s).
     pub bias_walk_dph_per_sqrt_s: f64,
     /// Bias change per degree C away from `temp0_c`.
@@ -61,7 +69,10 @@ pub struct TwinConfig {
     pub temp0_c: f64,
     /// Temperature ramp, C per s.
     pub temp_ramp_c_per_s: f64,
-    /// Decaying disturbance after each move: initial size (deg/h) and time constant (s).
+    /// Temperature swing: amplitude (C) and period (s), as from a cycling heater.
+    pub temp_wave: (f64, f64),
+    /// Decaying disturbance after each move (the rebalance loop's response to the stop):
+    /// initial size (deg/h, signed) and time constant (s).
     pub settle_dph: f64,
     pub settle_tau_s: f64,
     /// Encoder bits per turn.
@@ -95,10 +106,15 @@ impl Default for TwinConfig {
             },
             noise_dph: 0.005,
             bias_drift_dph_per_s: 0.0,
+            bias_drift2_dph_per_s2: 0.0,
+            bias_jump: None,
+            nonlinearity_per_dph: 0.0,
+            disturbances: Vec::new(),
             bias_walk_dph_per_sqrt_s: 1e-5,
             bias_temp_dph_per_c: 0.0,
             temp0_c: 40.0,
             temp_ramp_c_per_s: 0.0,
+            temp_wave: (0.0, 600.0),
             settle_dph: 0.02,
             settle_tau_s: 0.05,
             encoder_bits: 23,
@@ -127,7 +143,6 @@ pub struct World {
     pub dir_ccw: bool,
     /// Time the last move ended, s.
     pub last_move_end_s: f64,
-    pub settle_sign: f64,
     pub walk_dph: f64,
     last_walk_s: f64,
     /// Time of the next ADC conversion, us.
@@ -146,7 +161,6 @@ impl World {
             moves: 0,
             dir_ccw: true,
             last_move_end_s: -1e9,
-            settle_sign: 1.0,
             walk_dph: 0.0,
             last_walk_s: 0.0,
             next_sample_us: 0,
@@ -175,7 +189,6 @@ impl World {
             self.shaft_deg = (self.shaft_deg + if self.dir_ccw { d } else { -d }).rem_euclid(360.0);
         }
         self.last_move_end_s = self.t_s();
-        self.settle_sign = if self.rng.unit() < 0.5 { -1.0 } else { 1.0 };
     }
 
     pub fn set_dir(&mut self, ccw: bool) {
@@ -205,7 +218,9 @@ impl World {
     }
 
     pub fn temperature_c(&self) -> f64 {
-        self.cfg.temp0_c + self.cfg.temp_ramp_c_per_s * self.t_s()
+        let (amp, period) = self.cfg.temp_wave;
+        let t = self.t_s();
+        self.cfg.temp0_c + self.cfg.temp_ramp_c_per_s * t + amp * (std::f64::consts::TAU * t / period).sin()
     }
 
     /// The gyro rate (deg/h) the rebalance loop outputs now, before noise.
@@ -218,14 +233,26 @@ impl World {
         }
         let c = &self.cfg;
         let since = t - self.last_move_end_s;
-        let settle = self.settle_sign * c.settle_dph * (-since / c.settle_tau_s).exp();
+        let settle = c.settle_dph * (-since / c.settle_tau_s).exp();
         let overload = if c.faults.adc_overload_from_s.is_some_and(|s| t >= s) {
             1000.0
         } else {
             0.0
         };
-        c.instrument.rate_dph(self.shaft_deg)
+        let jump = c.bias_jump.map_or(0.0, |(at, size)| if t >= at { size } else { 0.0 });
+        let disturbance: f64 = c
+            .disturbances
+            .iter()
+            .filter(|d| (d.0..d.1).contains(&t))
+            .map(|d| d.2)
+            .sum();
+        let earth = c.instrument.rate_dph(self.shaft_deg);
+        earth
+            + c.nonlinearity_per_dph * earth * earth
             + c.bias_drift_dph_per_s * t
+            + c.bias_drift2_dph_per_s2 * t * t
+            + jump
+            + disturbance
             + self.walk_dph
             + c.bias_temp_dph_per_c * (self.temperature_c() - c.temp0_c)
             + settle

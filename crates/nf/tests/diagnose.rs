@@ -1,0 +1,111 @@
+//! `nf diagnose` on twin recordings with concealed effects, and on clean ones.
+
+use nf::diagnose::{EFFECTS, diagnose};
+use nf::diagnose_eval::evaluate;
+use nf::recording::Recording;
+use nf_instrument::run::{RunConfig, TiltPolicy};
+use nf_twin::{Recorder, TwinConfig, simulate};
+
+#[test]
+fn clear_effects_are_named_first_and_clean_recordings_stay_clean() {
+    let ev = evaluate(4, 60, &[2], 0.05, || {});
+    let mut first = 0;
+    for (effect, level, cell) in &ev.cells {
+        println!("{effect:<20} {level}: named first {}/{}", cell.named_first, cell.runs);
+        assert_eq!(cell.runs, 4);
+        assert!(cell.named >= 3, "{effect} at {level}: named {} of 4", cell.named);
+        first += cell.named_first;
+    }
+    assert_eq!(ev.cells.len(), EFFECTS.len());
+    assert!(first as f64 >= 0.85 * (4 * EFFECTS.len()) as f64, "named first {first}");
+    println!("false alarms {} of {}", ev.false_alarms, ev.clean_runs);
+    // alpha = 0.05: more than 7 of 60 would have probability below 1.5%.
+    assert!(ev.false_alarms <= 7, "{}", ev.false_alarms);
+    // Modelling the clear effects brings the azimuth back: drift, jump and encoder error bias it.
+    for (effect, _, cell) in &ev.cells {
+        if ["bias_drift", "bias_jump", "encoder_error"].contains(effect) {
+            assert!(
+                cell.rms_after < 0.5 * cell.rms_before,
+                "{effect}: {} -> {}",
+                cell.rms_before,
+                cell.rms_after
+            );
+        }
+    }
+}
+
+/// The recording, and the twin time at which the recording's `t_s = 0` lies (levelling comes first).
+fn recording_t0(twin: &TwinConfig) -> (Recording, f64) {
+    let run = RunConfig {
+        positions: 48,
+        dwell_ms: 1000,
+        settle_ms: 100,
+        tilt_policy: TiltPolicy::Warn,
+        ..RunConfig::default()
+    };
+    let mut rec = Recorder::default();
+    let (_, world) = simulate(twin, &run, &mut rec);
+    let r = Recording::parse(&rec.text()).unwrap();
+    // The run ends half a dwell after the last dwell's middle.
+    let t0 = world.t_s() - r.rows.last().unwrap().t_s - 0.5;
+    (r, t0)
+}
+
+fn recording(twin: &TwinConfig) -> Recording {
+    recording_t0(twin).0
+}
+
+fn quiet_twin(seed: u64) -> TwinConfig {
+    let mut t = TwinConfig {
+        seed,
+        ..TwinConfig::default()
+    };
+    t.instrument.tilt_deg = 0.0;
+    t.settle_dph = 0.0;
+    t.bias_walk_dph_per_sqrt_s = 0.0;
+    t
+}
+
+#[test]
+fn a_bias_jump_is_found_with_its_time_and_size() {
+    let mut twin = quiet_twin(3);
+    twin.bias_jump = Some((30.0, 0.08));
+    let (rec, t0) = recording_t0(&twin);
+    let d = diagnose(&rec, 0.05).unwrap();
+    let f = &d.findings[0];
+    assert_eq!(f.effect, "bias_jump");
+    let size = f.parameters.iter().find(|p| p.name == "size_dph").unwrap();
+    assert!((size.value - 0.08).abs() < 3.0 * size.sigma.unwrap(), "{size:?}");
+    let time = f.parameters.iter().find(|p| p.name == "time_s").unwrap().value;
+    // Positions are 1.4 s apart: the step is placed between two of them.
+    assert!((time - (30.0 - t0)).abs() < 1.0, "{time} vs {}", 30.0 - t0);
+    assert!(f.rss_after < d.baseline.rss);
+    let err = |a: f64| nf_model::angle::wrap_180(a - twin.instrument.psi_deg).abs() * 3600.0;
+    assert!(err(d.final_.azimuth_deg) < err(d.baseline.azimuth_deg));
+}
+
+#[test]
+fn a_second_harmonic_encoder_error_shows_in_the_third_harmonic_and_is_removed() {
+    let mut twin = quiet_twin(4);
+    // 600": the third harmonic it makes is about ten times its standard error here.
+    twin.encoder_error[0] = (2, 600.0, 30.0);
+    let d = diagnose(&recording(&twin), 0.05).unwrap();
+    let f = &d.findings[0];
+    assert_eq!(f.effect, "encoder_error");
+    assert_eq!(f.parameters[0].value, 2.0);
+    let amp = &f.parameters[1];
+    assert!((amp.value - 600.0).abs() < 3.0 * amp.sigma.unwrap(), "{amp:?}");
+    let err = |a: f64| nf_model::angle::wrap_180(a - twin.instrument.psi_deg).abs() * 3600.0;
+    assert!(
+        err(d.final_.azimuth_deg) < 3.0 * d.final_.sigma_arcsec,
+        "{}",
+        err(d.final_.azimuth_deg)
+    );
+}
+
+#[test]
+fn too_few_positions_are_refused() {
+    let text = "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,0\n2,3,180,-1\n";
+    let rec = Recording::parse(text).unwrap();
+    assert!(diagnose(&rec, 0.05).unwrap_err().contains("at least 8"));
+}
