@@ -40,22 +40,7 @@ static TX: Channel<M, Line, 8> = Channel::new();
 static START: Signal<M, ()> = Signal::new();
 static ABORT: AtomicBool = AtomicBool::new(false);
 static RUNNING: AtomicBool = AtomicBool::new(false);
-static CONFIG: Mutex<M, Cell<RunConfig>> = Mutex::new(Cell::new(RunConfig {
-    positions: 72,
-    dwell_ms: 2000,
-    settle_ms: 300,
-    sample_rate_hz: 1000,
-    latitude_deg: 43.8,
-    tilt_limit_deg: 0.05,
-    tilt_policy: TiltPolicy::Refuse,
-    position_tol_deg: 0.02,
-    max_corrections: 3,
-    tilt_correction: true,
-    calibration: nf_model::dwell::Calibration {
-        zero_counts: 0.0,
-        dph_per_count: 50.0 / 8_388_608.0,
-    },
-}));
+static CONFIG: Mutex<M, Cell<RunConfig>> = Mutex::new(Cell::new(RunConfig::DEFAULT));
 static LAST: Mutex<M, Cell<Option<RunReport>>> = Mutex::new(Cell::new(None));
 
 /// embassy-time as the run logic's clock.

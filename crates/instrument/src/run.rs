@@ -80,20 +80,25 @@ pub struct RunConfig {
 
 impl Default for RunConfig {
     fn default() -> Self {
-        RunConfig {
-            positions: 72,
-            dwell_ms: 2000,
-            settle_ms: 300,
-            sample_rate_hz: 1000,
-            latitude_deg: 43.8,
-            tilt_limit_deg: 0.05,
-            tilt_policy: TiltPolicy::Refuse,
-            position_tol_deg: 0.02,
-            max_corrections: 3,
-            tilt_correction: true,
-            calibration: Calibration::default(),
-        }
+        Self::DEFAULT
     }
+}
+
+impl RunConfig {
+    /// The paper's run: 72 positions of 2 s at 43.8 deg, levelled to 0.05 deg.
+    pub const DEFAULT: RunConfig = RunConfig {
+        positions: 72,
+        dwell_ms: 2000,
+        settle_ms: 300,
+        sample_rate_hz: 1000,
+        latitude_deg: 43.8,
+        tilt_limit_deg: 0.05,
+        tilt_policy: TiltPolicy::Refuse,
+        position_tol_deg: 0.02,
+        max_corrections: 3,
+        tilt_correction: true,
+        calibration: Calibration::DEFAULT,
+    };
 }
 
 /// Where in the run something happened.

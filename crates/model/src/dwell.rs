@@ -83,16 +83,18 @@ pub struct Calibration {
 }
 
 impl Default for Calibration {
-    /// A rebalance loop giving +-50 deg/h over the ADC's +-2^23 counts.
     fn default() -> Self {
-        Calibration {
-            zero_counts: 0.0,
-            dph_per_count: 50.0 / 8_388_608.0,
-        }
+        Self::DEFAULT
     }
 }
 
 impl Calibration {
+    /// A rebalance loop giving +-50 deg/h over the ADC's +-2^23 counts.
+    pub const DEFAULT: Calibration = Calibration {
+        zero_counts: 0.0,
+        dph_per_count: 50.0 / 8_388_608.0,
+    };
+
     pub fn rate_dph(&self, counts: f64) -> f64 {
         (counts - self.zero_counts) * self.dph_per_count
     }

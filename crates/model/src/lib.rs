@@ -16,6 +16,7 @@ pub mod exact;
 pub mod fit;
 pub mod level;
 pub mod paper;
+pub mod rng;
 pub mod uncertainty;
 
 pub use num_traits::Float;

@@ -1,12 +1,10 @@
 //! The azimuth fit against independent reference values, f64 and properties over many seeds.
 
-mod common;
-
-use common::Rng;
 use nf_model::angle::wrap_180;
 use nf_model::exact::Instrument;
 use nf_model::fit::{AzimuthFit, Drift, FitConfig, FitError, Obs};
 use nf_model::paper::eq24_arcsec;
+use nf_model::rng::Rng;
 
 const REFERENCE: &str = include_str!("reference/reference.txt");
 

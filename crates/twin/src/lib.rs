@@ -5,11 +5,10 @@
 //! 400 s run takes a fraction of a second.
 
 mod devices;
-mod rng;
 mod world;
 
 pub use devices::{TwinInstrument, instrument};
-pub use rng::Rng;
+pub use nf_model::rng::Rng;
 pub use world::{Faults, InclinometerFault, TwinConfig, World, virtual_now_us};
 
 use nf_instrument::run::{RunConfig, RunReport, Sink, run};

@@ -1,9 +1,9 @@
 //! The simulated instrument: the physical state and what each sensor sees.
 
-use crate::rng::Rng;
 use nf_instrument::adc::{CODE_MAX, CODE_MIN};
 use nf_model::dwell::Calibration;
 use nf_model::exact::Instrument;
+use nf_model::rng::Rng;
 use std::cell::Cell;
 
 thread_local! {
