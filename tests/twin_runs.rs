@@ -238,3 +238,23 @@ fn the_recording_follows_the_documented_format() {
     // Time is the middle of each dwell and grows.
     assert!(rows.windows(2).all(|w| w[1][1] > w[0][1]));
 }
+
+#[test]
+fn settings_that_cannot_make_a_run_are_refused_before_anything_moves() {
+    let (mut twin, run) = short();
+    for bad in [
+        RunConfig { positions: 0, ..run },
+        RunConfig { dwell_ms: 0, ..run },
+        RunConfig {
+            sample_rate_hz: 0,
+            ..run
+        },
+    ] {
+        let (report, rec) = go(&twin, &bad);
+        assert_eq!(report.result.unwrap_err().fault, Fault::BadConfig);
+        assert!(rec.lines.is_empty());
+    }
+    twin.steps_per_rev = 0;
+    let (report, _) = go(&twin, &run);
+    assert_eq!(report.result.unwrap_err().fault, Fault::BadConfig);
+}

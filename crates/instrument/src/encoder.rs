@@ -114,9 +114,9 @@ impl<SPI: SpiBus> BissEncoder<SPI> {
         &self.cfg
     }
 
-    /// Counts per turn.
-    pub fn counts_per_turn(&self) -> u32 {
-        1 << self.cfg.bits
+    /// Counts per turn (up to 2^32 for a 32-bit encoder).
+    pub fn counts_per_turn(&self) -> u64 {
+        1u64 << self.cfg.bits.min(32)
     }
 
     /// Reads the position in counts, retrying after CRC errors.

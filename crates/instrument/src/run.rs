@@ -457,7 +457,8 @@ where
         });
         return report;
     };
-    if cfg.positions == 0 || cfg.dwell_ms as u64 * cfg.sample_rate_hz as u64 / 1000 == 0 {
+    let no_samples = cfg.dwell_ms as u64 * cfg.sample_rate_hz as u64 / 1000 == 0;
+    if cfg.positions == 0 || no_samples || ctx.hw.motor.steps_per_rev() == 0 {
         report.result = Err(RunError {
             stage: Stage::Levelling,
             fault: Fault::BadConfig,

@@ -264,7 +264,7 @@ impl World {
         if self.cfg.faults.adc_dead_from_s.is_some_and(|t| self.t_s() >= t) {
             return None;
         }
-        let period = 1_000_000 / self.cfg.sample_rate_hz as u64;
+        let period = 1_000_000 / self.cfg.sample_rate_hz.max(1) as u64;
         let next = self.next_sample_us.max(self.now_us.div_ceil(period) * period);
         let next = if next <= self.now_us { next + period } else { next };
         self.advance(next - self.now_us);
