@@ -127,7 +127,7 @@ fn fit_of_a_bad_recording_names_the_line() {
     let (code, _, err) = nf(&["fit", &bad, "--tilt", "exact"]);
     assert_eq!(code, 1);
     assert!(err.contains("needs tilt_x_deg and tilt_y_deg"), "{err}");
-    let (code, _, _) = nf(&["fit", &bad, "--plot", &tmp("x.png")]);
+    let (code, _, _) = nf(&["fit", &bad, "--plot", &tmp("x.gif")]);
     assert_ne!(code, 0);
 }
 

@@ -2,9 +2,9 @@
 
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::diagnose::diagnose;
+use crate::plot::{Panel, Series, Style};
 use crate::recording::Recording;
-use crate::svg::{Panel, Series, Style};
-use crate::{diagnose, diagnose_eval, logparse, paper, plan, svg};
+use crate::{diagnose, diagnose_eval, logparse, paper, plan, plot};
 use clap::{Parser, Subcommand, ValueEnum};
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::angle::surveying_azimuth_deg;
@@ -51,7 +51,7 @@ struct DiagnoseArgs {
     alpha: f64,
     #[arg(long)]
     json: bool,
-    /// Plot the residuals before and after (SVG).
+    /// Plot the residuals before and after (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
     /// Run the suite of twin recordings with concealed effects and print the rates.
@@ -173,7 +173,7 @@ struct FitArgs {
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
-    /// Plot gyro output, fitted curve and residuals (SVG).
+    /// Plot gyro output, fitted curve and residuals (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
 }
@@ -212,7 +212,7 @@ struct PlanArgs {
     seed: u64,
     #[arg(long)]
     json: bool,
-    /// Plot the uncertainty against n (SVG).
+    /// Plot the uncertainty against n (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
 }
@@ -221,7 +221,7 @@ struct PlanArgs {
 struct PaperArgs {
     #[arg(long)]
     json: bool,
-    /// Plot Fig. 6 (Eq. 24) and Fig. 7 (Eq. 30 against the exact model), SVG.
+    /// Plot Fig. 6 (Eq. 24) and Fig. 7 (Eq. 30 against the exact model), *.svg or *.png.
     #[arg(long)]
     plot: Option<String>,
 }
@@ -394,7 +394,7 @@ fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     };
     let an = analyse(&rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
     if let Some(p) = &a.plot {
-        svg::write(p, &fit_panels(&an))?;
+        plot::write(p, &fit_panels(&an))?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&fit_json(&an)).unwrap_or_default());
@@ -539,7 +539,7 @@ fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
             ],
             log_x: false,
         };
-        svg::write(p, &[panel])?;
+        plot::write(p, &[panel])?;
     }
     let bj = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
     if a.json {
@@ -654,7 +654,7 @@ fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
                 .collect(),
             style: Style::Line,
         });
-        svg::write(p, &[fig6, fig7])?;
+        plot::write(p, &[fig6, fig7])?;
     }
     if a.json {
         let j = json!({
@@ -776,7 +776,7 @@ fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             }],
             log_x: false,
         };
-        svg::write(
+        plot::write(
             p,
             &[
                 panel("residuals of Eq. 7 (before)", &d.residuals_before),

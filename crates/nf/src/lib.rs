@@ -7,9 +7,9 @@ mod linfit;
 pub mod logparse;
 pub mod paper;
 pub mod plan;
+pub mod plot;
 pub mod recording;
 mod stats;
-pub mod svg;
 
 mod cli;
 
