@@ -143,6 +143,12 @@ fn plan_budget_target_and_monte_carlo() {
         "{paper} {exact}"
     );
     assert!(j["fastest"]["n"].as_u64().unwrap() >= 4);
+    // Equal thirds: the gyro allowance alone gives 15 / sqrt(3) = 8.66" by Eq. 24 at n = 72.
+    let g = j["allowance_for_target"]["gyro_dph"].as_f64().unwrap();
+    assert!(
+        (nf_model::paper::eq24_arcsec(72, g, 43.8) - 15.0 / 3f64.sqrt()).abs() < 1e-6,
+        "{g}"
+    );
     let mc = &j["monte_carlo"];
     assert!((mc["sd_arcsec"].as_f64().unwrap() / mc["formula_arcsec"].as_f64().unwrap() - 1.0).abs() < 0.15);
     let (code, out, _) = nf(&["plan", "--target", "1", "--mc-runs", "0"]);

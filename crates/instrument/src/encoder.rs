@@ -136,11 +136,6 @@ impl<SPI: SpiBus> BissEncoder<SPI> {
     }
 }
 
-/// Counts to degrees in `[0, 360)`.
-pub fn counts_to_deg(counts: u32, bits: u8) -> f64 {
-    counts as f64 * 360.0 / (1u64 << bits) as f64
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -204,6 +199,5 @@ mod tests {
         let mut enc = BissEncoder::new(spi.clone(), Config { bits: 23, retries: 1 });
         assert_eq!(embassy_futures::block_on(enc.read()), Err(EncoderError::Crc));
         spi.done();
-        assert!((counts_to_deg(1 << 22, 23) - 180.0).abs() < 1e-12);
     }
 }

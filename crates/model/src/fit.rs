@@ -468,11 +468,6 @@ impl<F: Float> FitResult<F> {
         Some((self.sol.coef[base], self.sol.coef[base + 1]))
     }
 
-    /// Standard error of coefficient `k` (`0` = C, `1` = A, `2` = B, then the extra terms).
-    pub fn sigma_coef(&self, k: usize) -> F {
-        (self.sol.cov_unit(k, k) * self.s2).max(F::zero()).sqrt()
-    }
-
     /// `d psi / d rate` of one position (deg per deg/h): how the estimate moves when that
     /// position's rate moves. Weighted by the position's weight.
     pub fn psi_sensitivity(&self, gamma_deg: F, t_s: F, weight: F) -> F {

@@ -10,7 +10,7 @@ use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
 use nf_model::paper::{eq24_arcsec, eq30_arcsec};
-use nf_model::uncertainty::{Budget, tilt_arcsec};
+use nf_model::uncertainty::{Budget, allocate, tilt_arcsec};
 use nf_twin::{Recorder, TwinConfig, simulate};
 use serde_json::{Value, json};
 use std::process::ExitCode;
@@ -510,6 +510,7 @@ fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     let exact_b = Budget::closed_form(a.n, &s, a.lat);
     let num_b = plan::numerical(&inp);
     let fastest = a.target.and_then(|t| plan::fastest(&inp, t));
+    let allowance = a.target.map(|t| allocate(t, a.n, a.lat));
     let paper_n = a.target.and_then(|t| plan::paper_n(&inp, t));
     let mc = (a.mc_runs > 0).then(|| {
         let bar = indicatif::ProgressBar::new(a.mc_runs as u64);
@@ -550,6 +551,7 @@ fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
             "target_arcsec": a.target,
             "fastest": fastest.map(|(n, d, t)| json!({"n": n, "dwell_s": d, "time_s": t})),
             "paper_n_for_target": paper_n,
+            "allowance_for_target": allowance.map(|s| json!({"gyro_dph": s.gyro_dph, "encoder_deg": s.encoder_deg, "tilt_deg": s.tilt_deg})),
             "monte_carlo": mc.map(|(m, f)| json!({"runs": a.mc_runs, "sd_arcsec": m, "formula_arcsec": f})),
         });
         println!("{}", serde_json::to_string_pretty(&j).unwrap_or_default());
@@ -585,6 +587,12 @@ fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                 "target {t}\": not reachable: the tilt term alone is {:.2}\"",
                 tilt_arcsec(a.tilt, a.lat)
             ),
+        }
+        if let Some(s) = allowance {
+            println!(
+                "target {t}\" at n = {}: allowances of a third of the variance each: gyro {:.5} deg/h per position, encoder {:.5} deg, levelling {:.5} deg",
+                a.n, s.gyro_dph, s.encoder_deg, s.tilt_deg
+            );
         }
         match paper_n {
             Some(n) => println!(

@@ -242,8 +242,4 @@ impl Recording {
     pub fn has_tilt_xy(&self) -> bool {
         self.has_tilt_x() && self.rows.iter().all(|r| r.tilt_y_deg.is_some())
     }
-
-    pub fn meta_f64(&self, key: &str) -> Option<f64> {
-        self.meta.get(key).and_then(|v| v.parse().ok())
-    }
 }
