@@ -343,7 +343,7 @@ where
         // The encoder is read ten times over the dwell and averaged.
         let enc_every = (expected / 10).max(1);
         let (mut enc_sum, mut enc_n) = (0i64, 0i64);
-        let (mut tilt, mut temp, mut t_mid) = ((f32::NAN, f32::NAN), f32::NAN, 0u64);
+        let (mut tilt, mut temp) = ((f32::NAN, f32::NAN), f32::NAN);
         self.hw.gyro.discard_pending();
         let start = self.hw.clock.now_us();
         for i in 0..expected {
@@ -371,7 +371,7 @@ where
                 self.check_abort()?;
             }
         }
-        t_mid = t_mid.max((start + self.hw.clock.now_us()) / 2 - t0);
+        let t_mid = (start + self.hw.clock.now_us()) / 2 - t0;
         let st = acc.stats();
         let cal = cfg.calibration;
         let angle = (target as f64 + enc_sum as f64 / enc_n as f64) * 360.0 / self.per_turn as f64;

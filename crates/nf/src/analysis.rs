@@ -142,25 +142,8 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
             let mut fit = plain(cfg, rec, &first_order).map_err(fail)?;
             let mut corr = first_order.clone();
             for _ in 0..4 {
-                let scale = fit.amplitude_dph / amplitude_dph(lat);
-                let tilted = Instrument {
-                    latitude_deg: lat,
-                    psi_deg: fit.psi_deg,
-                    tilt_deg: t.tilt_deg,
-                    tilt_dir_deg: t.tilt_dir_deg,
-                    gyro_elev_deg: 0.0,
-                    scale,
-                    bias_dph: 0.0,
-                };
-                let level = Instrument {
-                    tilt_deg: 0.0,
-                    ..tilted
-                };
-                corr = rec
-                    .rows
-                    .iter()
-                    .map(|r| tilted.rate_dph(r.encoder_deg) - level.rate_dph(r.encoder_deg))
-                    .collect();
+                let gammas: Vec<f64> = rec.rows.iter().map(|r| r.encoder_deg).collect();
+                corr = exact_tilt_correction(lat, fit.psi_deg, fit.amplitude_dph, &t, &gammas);
                 fit = plain(cfg, rec, &corr).map_err(fail)?;
             }
             (fit, corr)
@@ -221,4 +204,29 @@ fn tilt_x_scatter(rec: &Recording) -> f64 {
             (obs.iter().map(|o| (o.rate_dph - m).powi(2)).sum::<f64>() / (obs.len().max(2) - 1) as f64).sqrt()
         }
     }
+}
+
+/// The rate a shaft tilt adds at each `gamma` in the exact model (the tilted instrument's rate
+/// minus the level one's), for the fitted azimuth and first-harmonic amplitude.
+pub fn exact_tilt_correction(
+    lat: f64,
+    psi_deg: f64,
+    amplitude: f64,
+    tilt: &ShaftTilt<f64>,
+    gammas: &[f64],
+) -> Vec<f64> {
+    let tilted = Instrument {
+        latitude_deg: lat,
+        psi_deg,
+        tilt_deg: tilt.tilt_deg,
+        tilt_dir_deg: tilt.tilt_dir_deg,
+        gyro_elev_deg: 0.0,
+        scale: amplitude / amplitude_dph(lat),
+        bias_dph: 0.0,
+    };
+    let level = Instrument {
+        tilt_deg: 0.0,
+        ..tilted
+    };
+    gammas.iter().map(|&g| tilted.rate_dph(g) - level.rate_dph(g)).collect()
 }

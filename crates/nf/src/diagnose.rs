@@ -10,12 +10,12 @@
 //! for nothing with probability at least `1 - alpha` (`alpha` = 0.05 by default). Effects
 //! are added one at a time, most significant first, until none is left.
 
+use crate::analysis::exact_tilt_correction;
 use crate::linfit::{self, Ls};
 use crate::recording::Recording;
 use crate::stats::{f_sf, t_sf2};
 use nf_model::EARTH_RATE_DPH;
 use nf_model::angle::atan2_deg;
-use nf_model::exact::Instrument;
 use nf_model::level::{TiltReading, fit_tilt};
 
 /// Most tests in one step: drift (2 forms), thermal, encoder (3 harmonics), nonlinearity,
@@ -601,27 +601,9 @@ fn shaft_tilt(d: &Data, tilt: &[(f64, f64)], model: &Model, base: &Ls) -> Option
     let f = ((rss0 - rss1) / 2.0) / (rss1 / dof as f64).max(1e-300);
     let p = f_sf(f, 2.0, dof as f64);
     let amp = base.coef[1].hypot(base.coef[2]);
-    let sb = summary(base);
-    let tilted = Instrument {
-        latitude_deg: d.lat,
-        psi_deg: sb.azimuth_deg,
-        tilt_deg: t.tilt_deg,
-        tilt_dir_deg: t.tilt_dir_deg,
-        gyro_elev_deg: 0.0,
-        scale: amp / (EARTH_RATE_DPH * d.lat.to_radians().cos()),
-        bias_dph: 0.0,
-    };
-    let level = Instrument {
-        tilt_deg: 0.0,
-        ..tilted
-    };
+    let corr = exact_tilt_correction(d.lat, summary(base).azimuth_deg, amp, &t, &d.gamma);
     let mut m = model.clone();
-    m.y = d
-        .rate
-        .iter()
-        .zip(&d.gamma)
-        .map(|(r, &g)| r - (tilted.rate_dph(g) - level.rate_dph(g)))
-        .collect();
+    m.y = d.rate.iter().zip(&corr).map(|(r, c)| r - c).collect();
     let sigma_tilt = t.rms_deg * (2.0 / n as f64).sqrt();
     Some((
         Candidate {
