@@ -15,6 +15,7 @@ pub mod dwell;
 pub mod exact;
 pub mod fit;
 pub mod level;
+pub mod noise;
 pub mod paper;
 pub mod rng;
 pub mod uncertainty;
