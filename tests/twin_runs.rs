@@ -62,7 +62,7 @@ fn without_the_tilt_correction_a_tilted_shaft_biases_the_azimuth() {
     twin.instrument.tilt_deg = 0.04;
     // In quadrature with the Earth-rate harmonic: the largest azimuth shift.
     twin.instrument.tilt_dir_deg = 90.0 - twin.instrument.psi_deg;
-    twin.noise_dph = 0.0;
+    twin.noise.arw_deg_rth = 0.0;
     run.tilt_limit_deg = 0.1;
     let err = |run: &RunConfig| {
         let (r, _) = go(&twin, run);

@@ -293,9 +293,11 @@ fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     twin.instrument.gyro_elev_deg = a.misalignment;
     twin.instrument.scale = a.scale;
     twin.instrument.bias_dph = a.bias;
-    twin.noise_dph = a.noise;
+    twin.noise = nf_model::noise::NoiseModel {
+        rrw_dph_rth: a.walk * 60.0,
+        ..nf_model::noise::NoiseModel::white(a.noise, 2.0)
+    };
     twin.bias_drift_dph_per_s = a.drift;
-    twin.bias_walk_dph_per_sqrt_s = a.walk;
     twin.encoder_error = [(a.encoder_harmonic, a.encoder_error, 0.0), (1, 0.0, 0.0)];
     twin.temp0_c = a.temp;
     twin.temp_ramp_c_per_s = a.temp_ramp;

@@ -5,6 +5,7 @@ use crate::diagnose::{EFFECTS, diagnose};
 use crate::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::angle::wrap_180;
+use nf_model::noise::NoiseModel;
 use nf_twin::{Recorder, Rng, TwinConfig, simulate};
 
 /// Magnitude levels, named.
@@ -49,8 +50,7 @@ fn random_case(rng: &mut Rng, seed: u64) -> Case {
     twin.instrument.psi_deg = rng.uniform(0.0, 360.0);
     twin.instrument.tilt_deg = 0.0;
     twin.instrument.bias_dph = rng.uniform(-1.0, 1.0);
-    twin.noise_dph = rng.uniform(0.003, 0.008);
-    twin.bias_walk_dph_per_sqrt_s = 0.0;
+    twin.noise = NoiseModel::white(rng.uniform(0.003, 0.008), 2.0);
     twin.settle_dph = 0.0;
     twin.start_deg = rng.uniform(0.0, 360.0);
     let n = [36u16, 48, 72][(rng.next_u64() % 3) as usize];
@@ -68,7 +68,7 @@ fn random_case(rng: &mut Rng, seed: u64) -> Case {
 
 /// Per-position gyro noise of a dwell mean.
 fn sigma(c: &Case) -> f64 {
-    c.twin.noise_dph * (2.0 / DWELL_S).sqrt()
+    c.twin.noise.white_mean_sd_dph(DWELL_S)
 }
 
 fn amplitude(c: &Case) -> f64 {
@@ -110,7 +110,7 @@ fn conceal(c: &mut Case, effect: &str, level: usize, rng: &mut Rng) {
         "nonlinearity" => c.twin.nonlinearity_per_dph = pick([3.0, 5.0, 10.0]) * 2.0 * s * (2.0 / n).sqrt() / (r * r),
         "settling_transient" => {
             // About `f` quarter-noise of excess in the first quarter of each dwell.
-            let quarter_noise = c.twin.noise_dph * 2000f64.sqrt() / (DWELL_S * 250.0).sqrt();
+            let quarter_noise = c.twin.noise.white_mean_sd_dph(DWELL_S / 4.0);
             let tau = 0.05;
             c.twin.settle_tau_s = tau;
             c.twin.settle_dph = pick([0.4, 0.8, 2.0]) * quarter_noise * (DWELL_S / 4.0) / tau * (0.1f64 / tau).exp();

@@ -62,7 +62,7 @@ fn quiet_twin(seed: u64) -> TwinConfig {
     };
     t.instrument.tilt_deg = 0.0;
     t.settle_dph = 0.0;
-    t.bias_walk_dph_per_sqrt_s = 0.0;
+    t.noise.rrw_dph_rth = 0.0;
     t
 }
 

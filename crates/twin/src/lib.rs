@@ -5,10 +5,13 @@
 //! 400 s run takes a fraction of a second.
 
 mod devices;
+pub mod noise;
+mod static_log;
 mod world;
 
 pub use devices::{TwinInstrument, instrument};
 pub use nf_model::rng::Rng;
+pub use static_log::StaticLog;
 pub use world::{Faults, InclinometerFault, TwinConfig, World, virtual_now_us};
 
 use nf_instrument::run::{RunConfig, RunReport, Sink, run};

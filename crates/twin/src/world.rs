@@ -2,7 +2,9 @@
 
 use nf_instrument::adc::{CODE_MAX, CODE_MIN};
 use nf_model::dwell::Calibration;
+use crate::noise::{GyroNoise, Quantiser};
 use nf_model::exact::Instrument;
+use nf_model::noise::NoiseModel;
 use nf_model::rng::Rng;
 use std::cell::Cell;
 
@@ -49,9 +51,8 @@ pub struct Faults {
 pub struct TwinConfig {
     /// The exact-model physics: latitude, azimuth, tilt, gyro misalignment, scale, bias.
     pub instrument: Instrument<f64>,
-    /// White noise of the dwell mean (deg/h) for a 2000-sample dwell; per sample it is
-    /// `sqrt(2000)` times larger.
-    pub noise_dph: f64,
+    /// The gyro's noise: white, flicker, random walk, Gauss-Markov, quantisation, tails.
+    pub noise: NoiseModel,
     /// Linear bias drift, deg/h per s.
     pub bias_drift_dph_per_s: f64,
     /// Quadratic bias drift, deg/h per s^2.
@@ -62,8 +63,6 @@ pub struct TwinConfig {
     pub nonlinearity_per_dph: f64,
     /// Disturbances added to the gyro output: `(from s, to s, deg/h)`.
     pub disturbances: Vec<(f64, f64, f64)>,
-    /// Bias random walk, deg/h per sqrt(s).
-    pub bias_walk_dph_per_sqrt_s: f64,
     /// Bias change per degree C away from `temp0_c`.
     pub bias_temp_dph_per_c: f64,
     pub temp0_c: f64,
@@ -104,13 +103,16 @@ impl Default for TwinConfig {
                 scale: 1.0,
                 bias_dph: 0.3,
             },
-            noise_dph: 0.005,
+            // 0.005 deg/h for a 2 s dwell mean, and a slow random walk of the bias.
+            noise: NoiseModel {
+                rrw_dph_rth: 6e-4,
+                ..NoiseModel::white(0.005, 2.0)
+            },
             bias_drift_dph_per_s: 0.0,
             bias_drift2_dph_per_s2: 0.0,
             bias_jump: None,
             nonlinearity_per_dph: 0.0,
             disturbances: Vec::new(),
-            bias_walk_dph_per_sqrt_s: 1e-5,
             bias_temp_dph_per_c: 0.0,
             temp0_c: 40.0,
             temp_ramp_c_per_s: 0.0,
@@ -143,8 +145,8 @@ pub struct World {
     pub dir_ccw: bool,
     /// Time the last move ended, s.
     pub last_move_end_s: f64,
-    pub walk_dph: f64,
-    last_walk_s: f64,
+    pub noise: GyroNoise,
+    quantiser: Quantiser,
     /// Time of the next ADC conversion, us.
     next_sample_us: u64,
     in_move: bool,
@@ -153,6 +155,7 @@ pub struct World {
 impl World {
     pub fn new(cfg: TwinConfig) -> Self {
         let rng = Rng::new(cfg.seed);
+        let noise = GyroNoise::new(cfg.noise, cfg.sample_rate_hz as f64, cfg.seed);
         World {
             shaft_deg: cfg.start_deg,
             cfg,
@@ -161,8 +164,8 @@ impl World {
             moves: 0,
             dir_ccw: true,
             last_move_end_s: -1e9,
-            walk_dph: 0.0,
-            last_walk_s: 0.0,
+            noise,
+            quantiser: Quantiser::default(),
             next_sample_us: 0,
             in_move: false,
         }
@@ -226,11 +229,7 @@ impl World {
     /// The gyro rate (deg/h) the rebalance loop outputs now, before noise.
     pub fn rate_dph(&mut self) -> f64 {
         let t = self.t_s();
-        let dt = t - self.last_walk_s;
-        if dt > 0.0 {
-            self.walk_dph += self.cfg.bias_walk_dph_per_sqrt_s * dt.sqrt() * self.rng.gauss();
-            self.last_walk_s = t;
-        }
+        let bias_noise = self.noise.bias_dph(t);
         let c = &self.cfg;
         let since = t - self.last_move_end_s;
         let settle = c.settle_dph * (-since / c.settle_tau_s).exp();
@@ -253,7 +252,7 @@ impl World {
             + c.bias_drift2_dph_per_s2 * t * t
             + jump
             + disturbance
-            + self.walk_dph
+            + bias_noise
             + c.bias_temp_dph_per_c * (self.temperature_c() - c.temp0_c)
             + settle
             + overload
@@ -272,10 +271,11 @@ impl World {
         Some(())
     }
 
-    /// One ADC sample: rate plus white noise, quantised and clipped at the codes' limits.
+    /// One ADC sample: rate plus noise, quantised and clipped at the codes' limits.
     pub fn adc_sample(&mut self) -> i32 {
-        let per_sample = self.cfg.noise_dph * 2000f64.sqrt();
-        let rate = self.rate_dph() + per_sample * self.rng.gauss();
+        let period = 1.0 / self.cfg.sample_rate_hz.max(1) as f64;
+        let rate = self.rate_dph() + self.noise.white_dph(period);
+        let rate = self.quantiser.output_dph(self.cfg.noise.quantization_arcsec, rate, period);
         let counts = self.cfg.calibration.counts(rate).round();
         counts.clamp(CODE_MIN as f64, CODE_MAX as f64) as i32
     }
