@@ -1,0 +1,199 @@
+//! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
+
+use super::Fail;
+use crate::analysis::{Analysis, Options, TiltMethod, analyse};
+use crate::plot;
+use crate::plot::{Panel, Series, Style};
+use crate::recording::Recording;
+use clap::ValueEnum;
+use nf_model::angle::surveying_azimuth_deg;
+use nf_model::fit::Drift;
+use nf_model::uncertainty::Budget;
+use serde_json::{Value, json};
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum TiltArg {
+    /// The best the recording allows.
+    Auto,
+    None,
+    FirstOrder,
+    Exact,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum DriftArg {
+    None,
+    Linear,
+    Quadratic,
+}
+
+#[derive(clap::Args)]
+pub struct FitArgs {
+    /// The recording (CSV, shared/recording-format.md).
+    recording: String,
+    /// Tilt correction.
+    #[arg(long, value_enum, default_value = "auto")]
+    tilt: TiltArg,
+    /// Time terms in the fit.
+    #[arg(long, value_enum, default_value = "none")]
+    drift: DriftArg,
+    /// Highest harmonic fitted (1 to 3).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=3))]
+    harmonics: u8,
+    /// Encoder uncertainty for the budgets, deg.
+    #[arg(long, default_value_t = 0.001)]
+    sigma_encoder: f64,
+    /// Shaft-tilt uncertainty for the paper's budget (and the exact one when uncorrected), deg.
+    #[arg(long, default_value_t = 0.003)]
+    sigma_tilt: f64,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+    /// Plot gyro output, fitted curve and residuals (*.svg or *.png).
+    #[arg(long)]
+    plot: Option<String>,
+}
+
+fn fit_json(an: &Analysis) -> Value {
+    let f = &an.fit;
+    let (d1, d2) = f.drift();
+    let b = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
+    json!({
+        "azimuth_deg": f.psi_deg,
+        "surveying_azimuth_deg": surveying_azimuth_deg(f.psi_deg),
+        "sigma_arcsec": f.sigma_psi_deg * 3600.0,
+        "rss": f.rss,
+        "n": f.n,
+        "dof": f.dof,
+        "latitude_deg": an.latitude_deg,
+        "amplitude_dph": f.amplitude_dph,
+        "amplitude_predicted_dph": an.amplitude_predicted_dph,
+        "scale_factor": f.amplitude_dph / an.amplitude_predicted_dph,
+        "offset_dph": f.offset_dph,
+        "sigma_gyro_dph": an.sigma_gyro_dph,
+        "drift_dph_per_s": d1,
+        "drift_dph_per_s2": d2,
+        "tilt_correction": an.method.name(),
+        "shaft_tilt_deg": an.shaft.map(|s| s.tilt_deg),
+        "shaft_tilt_dir_deg": an.shaft.map(|s| s.tilt_dir_deg),
+        "budget_eq31_paper": b(&an.budget_paper),
+        "budget_exact": b(&an.budget_exact),
+    })
+}
+
+pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
+    let rec = Recording::read(&a.recording).map_err(|e| Fail(e.to_string(), 2))?;
+    let opt = Options {
+        tilt: match a.tilt {
+            TiltArg::Auto => None,
+            TiltArg::None => Some(TiltMethod::None),
+            TiltArg::FirstOrder => Some(TiltMethod::FirstOrder),
+            TiltArg::Exact => Some(TiltMethod::Exact),
+        },
+        drift: match a.drift {
+            DriftArg::None => Drift::None,
+            DriftArg::Linear => Drift::Linear,
+            DriftArg::Quadratic => Drift::Quadratic,
+        },
+        harmonics: a.harmonics,
+        sigma_encoder_deg: a.sigma_encoder,
+        sigma_tilt_deg: a.sigma_tilt,
+        ..Options::default()
+    };
+    let an = analyse(&rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
+    if let Some(p) = &a.plot {
+        plot::write(p, &fit_panels(&an))?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&fit_json(&an)).unwrap_or_default());
+        return Ok(());
+    }
+    let f = &an.fit;
+    println!(
+        "recording      {} ({} positions, latitude {} deg)",
+        a.recording, f.n, an.latitude_deg
+    );
+    println!(
+        "azimuth psi    {:.5} deg  (Eq. 7: rate = WE cos(lat) cos(gamma + psi))",
+        f.psi_deg
+    );
+    println!(
+        "surveying az.  {:.5} deg  (clockwise from true north, of the gamma = 0 direction)",
+        surveying_azimuth_deg(f.psi_deg)
+    );
+    println!(
+        "sigma          {:.2} arcsec  (1 sigma, from the residuals, {} dof)",
+        f.sigma_psi_deg * 3600.0,
+        f.dof
+    );
+    println!(
+        "amplitude      {:.5} deg/h  (latitude predicts {:.5}: scale factor {:.5})",
+        f.amplitude_dph,
+        an.amplitude_predicted_dph,
+        f.amplitude_dph / an.amplitude_predicted_dph
+    );
+    println!("bias (offset)  {:.5} +- {:.5} deg/h", f.offset_dph, f.sigma_offset_dph);
+    println!(
+        "residuals      RSS {:.6e} (deg/h)^2, rms {:.5} deg/h",
+        f.rss, an.sigma_gyro_dph
+    );
+    match (an.method, an.shaft) {
+        (TiltMethod::Exact, Some(s)) => println!(
+            "tilt           corrected with the exact model: shaft tilt {:.4} deg towards {:.1} deg (from {} X/Y readings)",
+            s.tilt_deg, s.tilt_dir_deg, f.n
+        ),
+        (TiltMethod::FirstOrder, _) => println!("tilt           corrected per position from tilt_x (first order)"),
+        _ => println!("tilt           not corrected (no inclinometer columns, or --tilt none)"),
+    }
+    let (d1, d2) = f.drift();
+    if opt.drift != Drift::None {
+        println!("drift          {d1:.3e} deg/h/s, {d2:.3e} deg/h/s^2");
+    }
+    for (name, b) in [("Eq. 31 (paper)", &an.budget_paper), ("exact model", &an.budget_exact)] {
+        println!(
+            "{name:<14} total {:.2}\" = gyro {:.2}\" (+) encoder {:.2}\" (+) tilt {:.2}\"",
+            b.total_arcsec, b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec
+        );
+    }
+    Ok(())
+}
+
+fn fit_panels(an: &Analysis) -> Vec<Panel> {
+    let curve: Vec<(f64, f64)> = (0..=360)
+        .map(|g| {
+            let g = g as f64;
+            (g, an.fit.predict(g, an.fit.t0_s, None))
+        })
+        .collect();
+    vec![
+        Panel {
+            title: format!("gyro output, psi = {:.4} deg", an.fit.psi_deg),
+            x_label: "encoder angle gamma (deg)".into(),
+            y_label: "rate (deg/h)".into(),
+            series: vec![
+                Series {
+                    name: "measured".into(),
+                    points: an.points.iter().map(|p| (p[0], p[2])).collect(),
+                    style: Style::Points,
+                },
+                Series {
+                    name: "fitted A cos + B sin + C".into(),
+                    points: curve,
+                    style: Style::Line,
+                },
+            ],
+            log_x: false,
+        },
+        Panel {
+            title: format!("residuals, RSS = {:.3e} (deg/h)^2", an.fit.rss),
+            x_label: "encoder angle gamma (deg)".into(),
+            y_label: "residual (deg/h)".into(),
+            series: vec![Series {
+                name: "residual".into(),
+                points: an.points.iter().map(|p| (p[0], p[4])).collect(),
+                style: Style::Points,
+            }],
+            log_x: false,
+        },
+    ]
+}

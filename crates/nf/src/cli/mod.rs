@@ -1,0 +1,87 @@
+//! The command line: `nf simulate | fit | plan | paper | log | diagnose`, one file each.
+
+mod diagnose;
+mod fit;
+mod log;
+mod paper;
+mod plan;
+mod simulate;
+
+use clap::{Parser, Subcommand};
+use diagnose::{DiagnoseArgs, cmd_diagnose};
+use fit::{FitArgs, cmd_fit};
+use log::{LogArgs, cmd_log};
+use paper::{PaperArgs, cmd_paper};
+use plan::{PlanArgs, cmd_plan};
+use simulate::{SimArgs, cmd_simulate};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "nf",
+    version,
+    about = "North finder host tool: simulate, fit, plan, reproduce the paper, read firmware logs"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Write a recording from the digital twin (the firmware's run logic on a simulated instrument).
+    Simulate(SimArgs),
+    /// Fit a recording: azimuth, amplitude, bias, residuals and uncertainty.
+    Fit(FitArgs),
+    /// Plan a run: uncertainty budget, n and dwell for a target, time to north, Monte Carlo check.
+    Plan(PlanArgs),
+    /// Reproduce the paper's numbers and list where it disagrees with itself or the physics.
+    Paper(PaperArgs),
+    /// Turn a firmware defmt log (probe-rs or defmt-print output) into a recording.
+    Log(LogArgs),
+    /// Find the physics a recording has and the simulation left out; `--evaluate` runs the test suite.
+    Diagnose(DiagnoseArgs),
+}
+
+/// A failure to report: the message and the exit code.
+pub(crate) struct Fail(pub String, pub u8);
+
+impl From<String> for Fail {
+    fn from(s: String) -> Self {
+        Fail(s, 1)
+    }
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let r = match cli.cmd {
+        Cmd::Simulate(a) => cmd_simulate(a),
+        Cmd::Fit(a) => cmd_fit(a),
+        Cmd::Plan(a) => cmd_plan(a),
+        Cmd::Paper(a) => cmd_paper(a),
+        Cmd::Log(a) => cmd_log(a),
+        Cmd::Diagnose(a) => cmd_diagnose(a),
+    };
+    match r {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Fail(msg, code)) => {
+            eprintln!("nf: {msg}");
+            ExitCode::from(code)
+        }
+    }
+}
+
+/// `x > 0`, false for NaN.
+pub(crate) fn positive(x: f64) -> bool {
+    x > 0.0
+}
+
+pub(crate) fn write_out(out: &Option<String>, text: &str) -> Result<(), Fail> {
+    match out {
+        Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 1)),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}

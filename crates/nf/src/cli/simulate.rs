@@ -1,0 +1,146 @@
+//! `nf simulate`: a recording from the firmware logic on the digital twin.
+
+use super::{Fail, positive, write_out};
+use nf_instrument::run::{RunConfig, TiltPolicy};
+use nf_twin::{Recorder, TwinConfig, simulate};
+use serde_json::json;
+
+#[derive(clap::Args)]
+pub struct SimArgs {
+    /// Latitude, deg.
+    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true)]
+    lat: f64,
+    /// Azimuth psi (Eq. 7), deg.
+    #[arg(long, default_value_t = 65.5378, allow_hyphen_values = true)]
+    psi: f64,
+    /// Number of positions.
+    #[arg(long, default_value_t = 72)]
+    n: u16,
+    /// Dwell per position, s.
+    #[arg(long, default_value_t = 2.0)]
+    dwell: f64,
+    /// Settle time after each move, s.
+    #[arg(long, default_value_t = 0.3)]
+    settle: f64,
+    /// Gyro white noise of a 2 s dwell mean, deg/h.
+    #[arg(long, default_value_t = 0.005)]
+    noise: f64,
+    /// Gyro bias, deg/h.
+    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
+    bias: f64,
+    /// Linear bias drift, deg/h per s.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    drift: f64,
+    /// Bias random walk, deg/h per sqrt(s).
+    #[arg(long, default_value_t = 1e-5)]
+    walk: f64,
+    /// Shaft tilt, deg.
+    #[arg(long, default_value_t = 0.002)]
+    tilt: f64,
+    /// Direction the platform is lowest towards, deg counter-clockwise from gamma = 0.
+    #[arg(long, default_value_t = 140.0, allow_hyphen_values = true)]
+    tilt_dir: f64,
+    /// Gyro axis elevation above the platform (gyro misalignment), deg.
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
+    misalignment: f64,
+    /// Gyro scale factor.
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+    /// Encoder error amplitude, arcsec.
+    #[arg(long, default_value_t = 0.0)]
+    encoder_error: f64,
+    /// Harmonic of the encoder error (1: eccentricity).
+    #[arg(long, default_value_t = 2)]
+    encoder_harmonic: u8,
+    /// Gyro temperature at the start, C.
+    #[arg(long, default_value_t = 40.0, allow_hyphen_values = true)]
+    temp: f64,
+    /// Temperature ramp, C per s.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    temp_ramp: f64,
+    /// Bias temperature coefficient, deg/h per C.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    temp_coef: f64,
+    /// Inclinometer noise, deg.
+    #[arg(long, default_value_t = 0.0005)]
+    incl_noise: f64,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Output file (default: standard output).
+    #[arg(long, short)]
+    out: Option<String>,
+    /// Print a JSON summary (the truth and the run's result) on stderr.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
+    if !(positive(a.dwell) && a.dwell <= 600.0) || a.n < 4 || a.n > 720 || !(-89.0..=89.0).contains(&a.lat) {
+        return Err(Fail(
+            "need 4 <= n <= 720, 0 < dwell <= 600 s and |lat| <= 89 deg".into(),
+            2,
+        ));
+    }
+    let mut twin = TwinConfig::default();
+    twin.instrument.latitude_deg = a.lat;
+    twin.instrument.psi_deg = a.psi;
+    twin.instrument.tilt_deg = a.tilt;
+    twin.instrument.tilt_dir_deg = a.tilt_dir;
+    twin.instrument.gyro_elev_deg = a.misalignment;
+    twin.instrument.scale = a.scale;
+    twin.instrument.bias_dph = a.bias;
+    twin.noise = nf_model::noise::NoiseModel {
+        rrw_dph_rth: a.walk * 60.0,
+        ..nf_model::noise::NoiseModel::white(a.noise, 2.0)
+    };
+    twin.bias_drift_dph_per_s = a.drift;
+    twin.encoder_error = [(a.encoder_harmonic, a.encoder_error, 0.0), (1, 0.0, 0.0)];
+    twin.temp0_c = a.temp;
+    twin.temp_ramp_c_per_s = a.temp_ramp;
+    twin.bias_temp_dph_per_c = a.temp_coef;
+    twin.incl_noise_deg = a.incl_noise;
+    twin.seed = a.seed;
+    let run = RunConfig {
+        positions: a.n,
+        dwell_ms: (a.dwell * 1000.0).round() as u32,
+        settle_ms: (a.settle * 1000.0).round() as u32,
+        latitude_deg: a.lat as f32,
+        tilt_policy: TiltPolicy::Warn,
+        ..RunConfig::default()
+    };
+    let mut rec = Recorder::default();
+    let (report, world) = simulate(&twin, &run, &mut rec);
+    write_out(&a.out, &rec.text())?;
+    let az = report.azimuth;
+    if a.json {
+        let j = json!({
+            "true_psi_deg": a.psi,
+            "positions": report.positions,
+            "duration_s": world.t_s(),
+            "firmware_azimuth_deg": az.map(|x| x.psi_deg),
+            "firmware_sigma_arcsec": az.map(|x| x.sigma_arcsec),
+            "error": report.result.err().map(|e| format!("{e:?}")),
+        });
+        eprintln!("{j}");
+    } else if let Some(x) = az {
+        eprintln!(
+            "simulated {} positions over {:.0} s; firmware fit: psi {:.4} deg +- {:.1}\" (truth {:.4})",
+            report.positions,
+            world.t_s(),
+            x.psi_deg,
+            x.sigma_arcsec,
+            a.psi
+        );
+    }
+    match report.result {
+        Ok(()) => Ok(()),
+        Err(e) => Err(Fail(
+            format!(
+                "the run failed at {:?}: {:?}; {} positions written",
+                e.stage, e.fault, report.positions
+            ),
+            1,
+        )),
+    }
+}
