@@ -39,7 +39,7 @@ impl GyroNoise {
     /// Starts the stationary terms in their stationary distribution at time 0. `sample_rate_hz`
     /// sets the fastest flicker member.
     pub fn new(model: NoiseModel, sample_rate_hz: f64, seed: u64) -> Self {
-        let mut rng = Rng::new(seed ^ 0x5EED_0F_401_5E);
+        let mut rng = Rng::new(seed ^ 0x5EED_0F40_15E0);
         let mut bank = Vec::new();
         // Equal variances 2 h ln(r) give a PSD h / f in the band the bank covers.
         let bank_var = 2.0 * model.flicker_h() * BANK_RATIO.ln();
