@@ -409,7 +409,9 @@ impl<F: Float> AzimuthFit<F> {
     }
 }
 
-fn design_row<F: Float>(cfg: &FitConfig<F>, gamma_deg: F, tau: F) -> [F; MAX_TERMS] {
+/// The fit's columns at one position: `1, cos, sin`, then the drift and harmonic terms of `cfg`;
+/// `tau` is the time from the first position over `cfg.t_scale_s`.
+pub fn design_row<F: Float>(cfg: &FitConfig<F>, gamma_deg: F, tau: F) -> [F; MAX_TERMS] {
     let mut x = [F::zero(); MAX_TERMS];
     let (s1, c1) = sincos_deg(gamma_deg);
     x[0] = F::one();

@@ -251,7 +251,11 @@ mod tests {
         };
         for k in [1usize, 10, 100] {
             let want = m.allan_var(k as f64 / fs);
-            assert!((avar(&err, k) / want - 1.0).abs() < 0.1, "{k}: {} vs {want}", avar(&err, k));
+            assert!(
+                (avar(&err, k) / want - 1.0).abs() < 0.1,
+                "{k}: {} vs {want}",
+                avar(&err, k)
+            );
         }
     }
 }

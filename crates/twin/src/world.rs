@@ -1,8 +1,8 @@
 //! The simulated instrument: the physical state and what each sensor sees.
 
+use crate::noise::{GyroNoise, Quantiser};
 use nf_instrument::adc::{CODE_MAX, CODE_MIN};
 use nf_model::dwell::Calibration;
-use crate::noise::{GyroNoise, Quantiser};
 use nf_model::exact::Instrument;
 use nf_model::noise::NoiseModel;
 use nf_model::rng::Rng;
@@ -275,7 +275,9 @@ impl World {
     pub fn adc_sample(&mut self) -> i32 {
         let period = 1.0 / self.cfg.sample_rate_hz.max(1) as f64;
         let rate = self.rate_dph() + self.noise.white_dph(period);
-        let rate = self.quantiser.output_dph(self.cfg.noise.quantization_arcsec, rate, period);
+        let rate = self
+            .quantiser
+            .output_dph(self.cfg.noise.quantization_arcsec, rate, period);
         let counts = self.cfg.calibration.counts(rate).round();
         counts.clamp(CODE_MIN as f64, CODE_MAX as f64) as i32
     }
