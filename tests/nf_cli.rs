@@ -40,7 +40,7 @@ fn worst_z(seeds: u64, max_tilt: f64, opt: &Options) -> (f64, f64) {
         twin.start_deg = rng.uniform(0.0, 360.0);
         let rec = twin_recording(&twin, 36);
         let an = analyse(&rec, opt).unwrap();
-        let z = wrap_180(an.fit.psi_deg - twin.instrument.psi_deg) / an.fit.sigma_psi_deg;
+        let z = wrap_180(an.gls.psi_deg - twin.instrument.psi_deg) / an.gls.sigma_psi_deg;
         worst = worst.max(z.abs());
         sum2 += z * z;
     }

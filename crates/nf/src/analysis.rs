@@ -1,6 +1,7 @@
 //! The fit of a recording: the azimuth with the tilt correction the recording allows, its
 //! uncertainty from the residuals and from the budgets, the residuals themselves.
 
+use crate::noise_fit::{self, NoiseChoice, NoiseFit};
 use crate::recording::Recording;
 use nf_model::EARTH_RATE_DPH;
 use nf_model::exact::Instrument;
@@ -30,7 +31,7 @@ impl TiltMethod {
     }
 }
 
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Options {
     /// `None`: the best the recording allows.
     pub tilt: Option<TiltMethod>,
@@ -41,6 +42,8 @@ pub struct Options {
     pub sigma_tilt_deg: f64,
     /// Gyro misalignment for Eq. 30.
     pub gyro_elev_deg: f64,
+    /// The noise model of the GLS fit.
+    pub noise: NoiseChoice,
 }
 
 impl Default for Options {
@@ -52,6 +55,7 @@ impl Default for Options {
             sigma_encoder_deg: 0.001,
             sigma_tilt_deg: 0.003,
             gyro_elev_deg: 0.01,
+            noise: NoiseChoice::Estimate,
         }
     }
 }
@@ -71,6 +75,8 @@ pub struct Analysis {
     pub budget_exact: Budget<f64>,
     /// Gyro noise per position estimated from the residuals.
     pub sigma_gyro_dph: f64,
+    /// The azimuth under the gyro's noise model (generalised least squares): the result.
+    pub gls: NoiseFit,
 }
 
 fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64]) -> Result<FitResult<f64>, FitError> {
@@ -158,6 +164,8 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
             [r.encoder_deg, r.t_s, r.rate_dph, f, r.rate_dph - f]
         })
         .collect();
+    let y: Vec<f64> = rec.rows.iter().zip(&corrections).map(|(r, c)| r.rate_dph - c).collect();
+    let gls = noise_fit::fit(rec, &y, &cfg, &opt.noise)?;
     let n = fit.n;
     let sigma_gyro_dph = fit.s2.sqrt();
     // With the tilt measured, what is left of it is the inclinometer's uncertainty.
@@ -186,6 +194,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         shaft,
         points,
         sigma_gyro_dph,
+        gls,
     })
 }
 

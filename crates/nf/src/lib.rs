@@ -3,8 +3,11 @@
 pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;
+pub mod gls;
 mod linfit;
 pub mod logparse;
+pub mod noise_est;
+pub mod noise_fit;
 pub mod paper;
 pub mod plan;
 pub mod plot;

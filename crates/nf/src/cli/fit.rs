@@ -1,13 +1,16 @@
 //! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
 
 use super::Fail;
+use super::noise_args::NoiseArgs;
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
+use crate::noise_fit::NoiseChoice;
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
 use crate::recording::Recording;
 use clap::ValueEnum;
 use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
+use nf_model::noise::NoiseModel;
 use nf_model::uncertainty::Budget;
 use serde_json::{Value, json};
 
@@ -52,23 +55,47 @@ pub struct FitArgs {
     /// Plot gyro output, fitted curve and residuals (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
+    /// The gyro's noise model; without one it is estimated from the recording.
+    #[command(flatten)]
+    noise: NoiseArgs,
 }
 
 fn fit_json(an: &Analysis) -> Value {
     let f = &an.fit;
+    let g = &an.gls;
+    let m = &g.model;
     let (d1, d2) = f.drift();
     let b = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
+    let unresolved = g.unresolved(an.amplitude_predicted_dph);
     json!({
-        "azimuth_deg": f.psi_deg,
-        "surveying_azimuth_deg": surveying_azimuth_deg(f.psi_deg),
-        "sigma_arcsec": f.sigma_psi_deg * 3600.0,
+        "azimuth_deg": g.psi_deg,
+        "surveying_azimuth_deg": surveying_azimuth_deg(g.psi_deg),
+        "sigma_arcsec": g.sigma_psi_deg * 3600.0,
+        "earth_rate_resolved": unresolved.is_none(),
+        "not_resolved_because": unresolved,
+        "method": "generalised least squares under the gyro noise model",
+        "noise_model": {
+            "source": g.source.describe(),
+            "arw_deg_rth": m.arw_deg_rth,
+            "bias_instability_dph": m.bias_instability_dph,
+            "rrw_dph_rth": m.rrw_dph_rth,
+            "gm_sigma_dph": m.gm_sigma_dph,
+            "gm_tau_s": m.gm_tau_s,
+            "quantization_arcsec": m.quantization_arcsec,
+            "dwell_s": g.dwell_s,
+            "dwell_from": g.dwell_from,
+            "chi2": g.chi2,
+            "chi2_dof": g.dof,
+        },
+        "ols": {"azimuth_deg": f.psi_deg, "sigma_arcsec": f.sigma_psi_deg * 3600.0, "note": "white-noise least squares, sigma from the residuals"},
         "rss": f.rss,
         "n": f.n,
         "dof": f.dof,
         "latitude_deg": an.latitude_deg,
-        "amplitude_dph": f.amplitude_dph,
+        "amplitude_dph": g.amplitude_dph,
+        "sigma_amplitude_dph": g.sigma_amplitude_dph,
         "amplitude_predicted_dph": an.amplitude_predicted_dph,
-        "scale_factor": f.amplitude_dph / an.amplitude_predicted_dph,
+        "scale_factor": g.amplitude_dph / an.amplitude_predicted_dph,
         "offset_dph": f.offset_dph,
         "sigma_gyro_dph": an.sigma_gyro_dph,
         "drift_dph_per_s": d1,
@@ -98,6 +125,11 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         harmonics: a.harmonics,
         sigma_encoder_deg: a.sigma_encoder,
         sigma_tilt_deg: a.sigma_tilt,
+        noise: if a.noise.any() {
+            NoiseChoice::Given(a.noise.apply(NoiseModel::WHITE_NONE)?, a.noise.describe())
+        } else {
+            NoiseChoice::Estimate
+        },
         ..Options::default()
     };
     let an = analyse(&rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
@@ -109,28 +141,55 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         return Ok(());
     }
     let f = &an.fit;
+    let g = &an.gls;
     println!(
         "recording      {} ({} positions, latitude {} deg)",
         a.recording, f.n, an.latitude_deg
     );
+    if let Some(why) = g.unresolved(an.amplitude_predicted_dph) {
+        println!("NOT RESOLVED   the Earth rate is not resolved: {why}; no azimuth can be given");
+        println!(
+            "               (the fit's numbers, not an azimuth: psi {:.3} deg +- {:.3} deg)",
+            g.psi_deg, g.sigma_psi_deg
+        );
+    } else {
+        println!(
+            "azimuth psi    {:.5} deg  (Eq. 7: rate = WE cos(lat) cos(gamma + psi))",
+            g.psi_deg
+        );
+        println!(
+            "surveying az.  {:.5} deg  (clockwise from true north, of the gamma = 0 direction)",
+            surveying_azimuth_deg(g.psi_deg)
+        );
+        println!(
+            "sigma          {:.2} arcsec  (1 sigma, generalised least squares under the noise model)",
+            g.sigma_psi_deg * 3600.0
+        );
+    }
+    let m = &g.model;
+    println!("noise model    {}", g.source.describe());
     println!(
-        "azimuth psi    {:.5} deg  (Eq. 7: rate = WE cos(lat) cos(gamma + psi))",
-        f.psi_deg
+        "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean: {:.5} deg/h), B {:.3e} deg/h, K {:.3e} deg/h/sqrt(h); chi2 {:.1} on {} dof",
+        m.arw_deg_rth,
+        g.dwell_s,
+        m.white_mean_sd_dph(g.dwell_s),
+        m.bias_instability_dph,
+        m.rrw_dph_rth,
+        g.chi2,
+        g.dof
     );
     println!(
-        "surveying az.  {:.5} deg  (clockwise from true north, of the gamma = 0 direction)",
-        surveying_azimuth_deg(f.psi_deg)
-    );
-    println!(
-        "sigma          {:.2} arcsec  (1 sigma, from the residuals, {} dof)",
+        "white LS       psi {:.5} deg +- {:.2} arcsec (sigma from the residuals, {} dof: too small when the noise is coloured)",
+        f.psi_deg,
         f.sigma_psi_deg * 3600.0,
         f.dof
     );
     println!(
-        "amplitude      {:.5} deg/h  (latitude predicts {:.5}: scale factor {:.5})",
-        f.amplitude_dph,
+        "amplitude      {:.5} +- {:.5} deg/h  (latitude predicts {:.5}: scale factor {:.5})",
+        g.amplitude_dph,
+        g.sigma_amplitude_dph,
         an.amplitude_predicted_dph,
-        f.amplitude_dph / an.amplitude_predicted_dph
+        g.amplitude_dph / an.amplitude_predicted_dph
     );
     println!("bias (offset)  {:.5} +- {:.5} deg/h", f.offset_dph, f.sigma_offset_dph);
     println!(

@@ -3,6 +3,7 @@
 mod diagnose;
 mod fit;
 mod log;
+mod noise_args;
 mod paper;
 mod plan;
 mod simulate;

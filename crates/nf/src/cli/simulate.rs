@@ -1,7 +1,9 @@
 //! `nf simulate`: a recording from the firmware logic on the digital twin.
 
+use super::noise_args::NoiseArgs;
 use super::{Fail, positive, write_out};
 use nf_instrument::run::{RunConfig, TiltPolicy};
+use nf_model::noise::NoiseModel;
 use nf_twin::{Recorder, TwinConfig, simulate};
 use serde_json::json;
 
@@ -22,18 +24,15 @@ pub struct SimArgs {
     /// Settle time after each move, s.
     #[arg(long, default_value_t = 0.3)]
     settle: f64,
-    /// Gyro white noise of a 2 s dwell mean, deg/h.
+    /// Gyro white noise of a 2 s dwell mean, deg/h (sets the ARW unless --arw is given).
     #[arg(long, default_value_t = 0.005)]
-    noise: f64,
+    gyro_noise: f64,
     /// Gyro bias, deg/h.
     #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
     bias: f64,
     /// Linear bias drift, deg/h per s.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     drift: f64,
-    /// Bias random walk, deg/h per sqrt(s).
-    #[arg(long, default_value_t = 1e-5)]
-    walk: f64,
     /// Shaft tilt, deg.
     #[arg(long, default_value_t = 0.002)]
     tilt: f64,
@@ -67,6 +66,9 @@ pub struct SimArgs {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Further noise terms (the default gyro has white noise only).
+    #[command(flatten)]
+    noise_terms: NoiseArgs,
     /// Output file (default: standard output).
     #[arg(long, short)]
     out: Option<String>,
@@ -90,10 +92,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     twin.instrument.gyro_elev_deg = a.misalignment;
     twin.instrument.scale = a.scale;
     twin.instrument.bias_dph = a.bias;
-    twin.noise = nf_model::noise::NoiseModel {
-        rrw_dph_rth: a.walk * 60.0,
-        ..nf_model::noise::NoiseModel::white(a.noise, 2.0)
-    };
+    twin.noise = a.noise_terms.apply(NoiseModel::white(a.gyro_noise, 2.0))?;
     twin.bias_drift_dph_per_s = a.drift;
     twin.encoder_error = [(a.encoder_harmonic, a.encoder_error, 0.0), (1, 0.0, 0.0)];
     twin.temp0_c = a.temp;

@@ -1,0 +1,79 @@
+//! The gyro noise model on the command line: flags in IEEE Std 952 units, shared by the
+//! subcommands that take one.
+
+use super::Fail;
+use nf_model::noise::NoiseModel;
+
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct NoiseArgs {
+    /// Angle random walk N, deg/sqrt(h).
+    #[arg(long)]
+    pub arw: Option<f64>,
+    /// Bias instability B (flicker), deg/h.
+    #[arg(long)]
+    pub bias_instability: Option<f64>,
+    /// Rate random walk K, deg/h/sqrt(h).
+    #[arg(long)]
+    pub rrw: Option<f64>,
+    /// Gauss-Markov bias: standard deviation, deg/h (with --gm-tau).
+    #[arg(long)]
+    pub gm_sigma: Option<f64>,
+    /// Gauss-Markov bias: correlation time, s.
+    #[arg(long)]
+    pub gm_tau: Option<f64>,
+    /// Output quantisation Q, arcsec.
+    #[arg(long)]
+    pub quantization: Option<f64>,
+    /// Heavy-tailed sample noise: Student-t degrees of freedom (> 2).
+    #[arg(long)]
+    pub student_t_dof: Option<f64>,
+}
+
+impl NoiseArgs {
+    /// Whether any term was given.
+    pub fn any(&self) -> bool {
+        [
+            self.arw,
+            self.bias_instability,
+            self.rrw,
+            self.gm_sigma,
+            self.gm_tau,
+            self.quantization,
+            self.student_t_dof,
+        ]
+        .iter()
+        .any(Option::is_some)
+    }
+
+    /// `base` with the given terms replaced; an invalid model is an error (exit code 2).
+    pub fn apply(&self, base: NoiseModel) -> Result<NoiseModel, Fail> {
+        let m = NoiseModel {
+            arw_deg_rth: self.arw.unwrap_or(base.arw_deg_rth),
+            bias_instability_dph: self.bias_instability.unwrap_or(base.bias_instability_dph),
+            rrw_dph_rth: self.rrw.unwrap_or(base.rrw_dph_rth),
+            gm_sigma_dph: self.gm_sigma.unwrap_or(base.gm_sigma_dph),
+            gm_tau_s: self.gm_tau.unwrap_or(base.gm_tau_s),
+            quantization_arcsec: self.quantization.unwrap_or(base.quantization_arcsec),
+            student_t_dof: self.student_t_dof.unwrap_or(base.student_t_dof),
+        };
+        m.validate().map_err(|e| Fail(format!("noise model: {e}"), 2))?;
+        Ok(m)
+    }
+
+    /// A short description of the flags given, for reports.
+    pub fn describe(&self) -> String {
+        let parts: Vec<String> = [
+            ("--arw", self.arw),
+            ("--bias-instability", self.bias_instability),
+            ("--rrw", self.rrw),
+            ("--gm-sigma", self.gm_sigma),
+            ("--gm-tau", self.gm_tau),
+            ("--quantization", self.quantization),
+            ("--student-t-dof", self.student_t_dof),
+        ]
+        .iter()
+        .filter_map(|(n, v)| v.map(|v| format!("{n} {v}")))
+        .collect();
+        parts.join(" ")
+    }
+}

@@ -1,0 +1,175 @@
+//! Generalised least squares under a gyro noise model: the covariance of the dwell means comes
+//! from `nf_model::noise`, is factored by Cholesky, and the whitened problem goes to the host's
+//! one least-squares solver ([`crate::linfit`]).
+//!
+//! Flicker and random walk give covariances defined up to a constant (see `nf_model::noise`).
+//! A constant `c 1 1^T` added to the covariance changes neither the GLS estimate of any
+//! coefficient other than the constant's nor its covariance, nor the restricted likelihood,
+//! when the design has a constant column (Rao's condition): so one is added to make the
+//! matrix positive definite.
+
+use crate::linfit;
+use nf_model::noise::NoiseModel;
+
+/// A symmetric positive definite matrix, row-major, and its Cholesky factor.
+#[derive(Debug, Clone)]
+pub struct Cov {
+    pub n: usize,
+    /// Lower factor `L` with `L L^T = Sigma`, row-major.
+    chol: Vec<f64>,
+}
+
+/// The covariance of window means of the gyro rate: centres `t_s`, lengths `dwell_s`.
+pub fn window_covariance(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Vec<f64> {
+    let n = t_s.len();
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..=i {
+            let v = model.mean_cov(t_s[j] - t_s[i], dwell_s[i], dwell_s[j], i == j);
+            m[i * n + j] = v;
+            m[j * n + i] = v;
+        }
+    }
+    m
+}
+
+impl Cov {
+    /// Factors `sigma` (n x n, row-major), first adding a constant to every element that makes
+    /// a generalised covariance positive definite. `None` if it cannot be made so.
+    pub fn new(sigma: &[f64], n: usize) -> Option<Cov> {
+        let scale = sigma.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+        if !(scale.is_finite() && scale > 0.0) {
+            return None;
+        }
+        let mut shift = 0.0;
+        for _ in 0..6 {
+            if let Some(chol) = cholesky(sigma, n, shift) {
+                return Some(Cov { n, chol });
+            }
+            shift = if shift == 0.0 { 4.0 * scale } else { shift * 10.0 };
+        }
+        None
+    }
+
+    /// `L^-1 v`.
+    pub fn whiten(&self, v: &[f64]) -> Vec<f64> {
+        let n = self.n;
+        let mut out = vec![0.0; n];
+        for i in 0..n {
+            let s: f64 = (0..i).map(|k| self.chol[i * n + k] * out[k]).sum();
+            out[i] = (v[i] - s) / self.chol[i * n + i];
+        }
+        out
+    }
+
+    /// `ln det Sigma`.
+    pub fn log_det(&self) -> f64 {
+        (0..self.n).map(|i| 2.0 * self.chol[i * self.n + i].ln()).sum()
+    }
+}
+
+fn cholesky(a: &[f64], n: usize, shift: f64) -> Option<Vec<f64>> {
+    let mut l = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..=i {
+            let s: f64 = (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum();
+            let v = a[i * n + j] + shift - s;
+            if i == j {
+                if v.is_nan() || v <= 0.0 {
+                    return None;
+                }
+                l[i * n + i] = v.sqrt();
+            } else {
+                l[i * n + j] = v / l[j * n + j];
+            }
+        }
+    }
+    Some(l)
+}
+
+/// A GLS fit.
+#[derive(Debug, Clone)]
+pub struct Gls {
+    pub coef: Vec<f64>,
+    /// Covariance of the coefficients under the noise model (not rescaled by the residuals).
+    pub cov: Vec<Vec<f64>>,
+    /// `y - X beta`, unwhitened.
+    pub resid: Vec<f64>,
+    /// Whitened residual sum of squares: chi-square with `dof` degrees of freedom if the
+    /// model is right.
+    pub chi2: f64,
+    pub dof: usize,
+    /// Restricted (REML) log-likelihood, up to a constant that depends only on the design.
+    pub reml_loglik: f64,
+}
+
+/// GLS of `y ~ cols` under the factored covariance `cov`; `None` when the columns are dependent.
+pub fn fit(cols: &[Vec<f64>], y: &[f64], cov: &Cov) -> Option<Gls> {
+    let wcols: Vec<Vec<f64>> = cols.iter().map(|c| cov.whiten(c)).collect();
+    let ls = linfit::fit(&wcols, &cov.whiten(y))?;
+    let resid = (0..y.len())
+        .map(|i| y[i] - cols.iter().zip(&ls.coef).map(|(c, b)| c[i] * b).sum::<f64>())
+        .collect();
+    // ln det(X^T Sigma^-1 X) = -ln det of the unit covariance.
+    let log_det_info = -log_det_spd(&ls.cov_unit)?;
+    Some(Gls {
+        reml_loglik: -0.5 * (cov.log_det() + log_det_info + ls.rss),
+        coef: ls.coef,
+        cov: ls.cov_unit,
+        resid,
+        chi2: ls.rss,
+        dof: ls.dof,
+    })
+}
+
+fn log_det_spd(m: &[Vec<f64>]) -> Option<f64> {
+    let n = m.len();
+    let flat: Vec<f64> = m.iter().flatten().copied().collect();
+    cholesky(&flat, n, 0.0).map(|l| (0..n).map(|i| 2.0 * l[i * n + i].ln()).sum())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nf_model::rng::Rng;
+
+    #[test]
+    fn equals_ordinary_least_squares_on_white_noise() {
+        let mut rng = Rng::new(4);
+        let n = 40;
+        let t: Vec<f64> = (0..n).map(|i| 3.0 * i as f64).collect();
+        let cols = vec![vec![1.0; n], t.iter().map(|v| (v / 20.0).cos()).collect()];
+        let y: Vec<f64> = (0..n).map(|i| 1.0 + 2.0 * cols[1][i] + 0.1 * rng.gauss()).collect();
+        let model = NoiseModel::white(0.1, 2.0);
+        let cov = Cov::new(&window_covariance(&model, &t, &vec![2.0; n]), n).unwrap();
+        let g = fit(&cols, &y, &cov).unwrap();
+        let o = linfit::fit(&cols, &y).unwrap();
+        for k in 0..2 {
+            assert!((g.coef[k] - o.coef[k]).abs() < 1e-12);
+            // Known white variance 0.01: the GLS covariance is the OLS unit covariance times it.
+            assert!((g.cov[k][k] / (o.cov_unit[k][k] * 0.01) - 1.0).abs() < 1e-9);
+        }
+        assert!((g.chi2 - o.rss / 0.01).abs() < 1e-6 * g.chi2);
+    }
+
+    #[test]
+    fn the_constant_added_for_flicker_changes_no_contrast() {
+        // Two different shifts must give the same slope, its variance and the REML likelihood.
+        let model = NoiseModel {
+            bias_instability_dph: 0.02,
+            rrw_dph_rth: 0.01,
+            ..NoiseModel::white(0.005, 2.0)
+        };
+        let n = 30;
+        let t: Vec<f64> = (0..n).map(|i| 5.0 * i as f64).collect();
+        let sigma = window_covariance(&model, &t, &vec![2.0; n]);
+        let cols = vec![vec![1.0; n], t.iter().map(|v| (v / 40.0).sin()).collect()];
+        let y: Vec<f64> = t.iter().map(|v| 0.3 + (v / 17.0).cos() * 0.01).collect();
+        let a = fit(&cols, &y, &Cov::new(&sigma, n).unwrap()).unwrap();
+        let shifted: Vec<f64> = sigma.iter().map(|v| v + 1.0).collect();
+        let b = fit(&cols, &y, &Cov::new(&shifted, n).unwrap()).unwrap();
+        assert!((a.coef[1] - b.coef[1]).abs() < 1e-9 * a.coef[1].abs().max(1e-6));
+        assert!((a.cov[1][1] / b.cov[1][1] - 1.0).abs() < 1e-6);
+        assert!((a.reml_loglik - b.reml_loglik).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,222 @@
+//! The gyro's noise estimated from one recording, by restricted maximum likelihood: white noise,
+//! flicker (bias instability) and rate random walk, from
+//! - the quarter means of each dwell (the short-time noise: three contrasts per dwell), and
+//! - the dwell means in time order, through the residuals of the azimuth fit (the long-time
+//!   noise: REML sees only what the fit's columns cannot absorb).
+//!
+//! The white level is profiled out in closed form; the two colour ratios are searched on a
+//! logarithmic grid (zero included) and refined by halving the step. Every grid point keeps its
+//! likelihood and its GLS fit, so that a caller can average over the noise models the
+//! recording allows instead of trusting one estimate.
+
+use crate::gls::{self, Cov};
+use std::f64::consts::FRAC_1_SQRT_2;
+use nf_model::noise::NoiseModel;
+
+/// What the estimate sees of a recording.
+#[derive(Debug, Clone)]
+pub struct Data<'a> {
+    /// Centre of each dwell, s.
+    pub t_s: &'a [f64],
+    /// Dwell length, s.
+    pub dwell_s: f64,
+    /// The fit's columns and the (corrected) dwell means.
+    pub cols: &'a [Vec<f64>],
+    pub y: &'a [f64],
+    /// Quarter means of the dwells that have them.
+    pub quarters: &'a [[f64; 4]],
+}
+
+/// One noise model the search looked at: its profile likelihood and GLS fit.
+#[derive(Debug, Clone)]
+pub struct Candidate {
+    pub model: NoiseModel,
+    pub loglik: f64,
+    /// The fit's coefficients and their covariance under this model.
+    pub coef: Vec<f64>,
+    pub cov: Vec<Vec<f64>>,
+}
+
+/// The estimated model and how it was found.
+#[derive(Debug, Clone)]
+pub struct Estimate {
+    /// The most likely model.
+    pub best: Candidate,
+    /// The grid's models (equal prior weight in the log of each ratio, and zero).
+    pub grid: Vec<Candidate>,
+    /// Degrees of freedom the white level was estimated with.
+    pub dof: usize,
+    /// Likelihood evaluations spent.
+    pub evaluations: u32,
+}
+
+/// Helmert contrasts of four quarters: orthonormal, orthogonal to their mean.
+const HELMERT: [[f64; 4]; 3] = [
+    [FRAC_1_SQRT_2, -FRAC_1_SQRT_2, 0.0, 0.0],
+    [
+        0.408_248_290_463_863,
+        0.408_248_290_463_863,
+        -0.816_496_580_927_726,
+        0.0,
+    ],
+    [
+        0.288_675_134_594_812_9,
+        0.288_675_134_594_812_9,
+        0.288_675_134_594_812_9,
+        -0.866_025_403_784_438_6,
+    ],
+];
+
+/// The model with white density 1 ((deg/h)^2 s) and colour ratios `rb` (B^2, per s) and `rk`
+/// (K^2 in (deg/h)^2/s, per s^2).
+fn unit_model(rb: f64, rk: f64) -> NoiseModel {
+    NoiseModel {
+        arw_deg_rth: 1.0 / 60.0,
+        bias_instability_dph: rb.sqrt(),
+        rrw_dph_rth: 60.0 * rk.sqrt(),
+        ..NoiseModel::WHITE_NONE
+    }
+}
+
+struct Problem<'a> {
+    data: Data<'a>,
+    /// Scatter of the quarter contrasts, summed over dwells.
+    scatter: [[f64; 3]; 3],
+    evaluations: u32,
+}
+
+impl Problem<'_> {
+    /// The model at the colour ratios with the white level that maximises the likelihood.
+    fn profile(&mut self, rb: f64, rk: f64) -> Option<Candidate> {
+        self.evaluations += 1;
+        let d = &self.data;
+        let m = unit_model(rb, rk);
+        let dwell = vec![d.dwell_s; d.t_s.len()];
+        let cov = Cov::new(&gls::window_covariance(&m, d.t_s, &dwell), d.t_s.len())?;
+        let g = gls::fit(d.cols, d.y, &cov)?;
+        // -2 loglik = N ln W + a + q / W, with the dwell means' REML and the quarter contrasts.
+        let mut a = -2.0 * g.reml_loglik - g.chi2;
+        let mut q = g.chi2;
+        let mut count = g.dof;
+        let nq = d.quarters.len();
+        if nq > 0 {
+            let c = self.contrast_cov(&m);
+            let (inv, log_det) = inverse3(&c)?;
+            a += nq as f64 * log_det;
+            q += (0..3)
+                .flat_map(|i| (0..3).map(move |j| (i, j)))
+                .map(|(i, j)| inv[i][j] * self.scatter[j][i])
+                .sum::<f64>();
+            count += 3 * nq;
+        }
+        let n = count as f64;
+        let w = q / n;
+        (w > 0.0).then(|| Candidate {
+            model: NoiseModel {
+                arw_deg_rth: w.sqrt() / 60.0,
+                ..unit_model(rb * w, rk * w)
+            },
+            loglik: -0.5 * (n * w.ln() + a + n),
+            coef: g.coef,
+            cov: g.cov.iter().map(|r| r.iter().map(|v| v * w).collect()).collect(),
+        })
+    }
+
+    /// Covariance of the three quarter contrasts of one dwell under `m`.
+    fn contrast_cov(&self, m: &NoiseModel) -> [[f64; 3]; 3] {
+        let tq = self.data.dwell_s / 4.0;
+        let centre = |k: usize| (k as f64 - 1.5) * tq;
+        let mut qc = [[0.0; 4]; 4];
+        for (a, row) in qc.iter_mut().enumerate() {
+            for (b, v) in row.iter_mut().enumerate() {
+                *v = m.mean_cov(centre(b) - centre(a), tq, tq, a == b);
+            }
+        }
+        let mut c = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                c[i][j] = (0..4)
+                    .flat_map(|a| (0..4).map(move |b| (a, b)))
+                    .map(|(a, b)| HELMERT[i][a] * qc[a][b] * HELMERT[j][b])
+                    .sum();
+            }
+        }
+        c
+    }
+}
+
+fn inverse3(m: &[[f64; 3]; 3]) -> Option<([[f64; 3]; 3], f64)> {
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if det.is_nan() || det <= 0.0 {
+        return None;
+    }
+    // Cyclic cofactors: inv[i][j] = C[j][i] / det.
+    let inv = core::array::from_fn(|i| {
+        core::array::from_fn(|j| {
+            let (r0, r1) = ((j + 1) % 3, (j + 2) % 3);
+            let (c0, c1) = ((i + 1) % 3, (i + 2) % 3);
+            (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det
+        })
+    });
+    Some((inv, det.ln()))
+}
+
+/// Grid of a colour ratio: zero, then half-decade steps of `unit` from 1e-4 to 1e4.
+fn grid(unit: f64) -> impl Iterator<Item = f64> + Clone {
+    std::iter::once(0.0).chain((-8..=8).map(move |k| unit * 10f64.powf(k as f64 / 2.0)))
+}
+
+/// Estimates white noise, flicker and rate random walk from a recording.
+pub fn estimate(data: Data<'_>) -> Option<Estimate> {
+    let mut scatter = [[0.0; 3]; 3];
+    for q in data.quarters {
+        let c: Vec<f64> = HELMERT.iter().map(|h| (0..4).map(|k| h[k] * q[k]).sum()).collect();
+        for i in 0..3 {
+            for j in 0..3 {
+                scatter[i][j] += c[i] * c[j];
+            }
+        }
+    }
+    let span = data.t_s.iter().fold(0.0f64, |m, &t| m.max(t)) - data.t_s.iter().fold(f64::MAX, |m, &t| m.min(t));
+    let dwell = data.dwell_s;
+    let mut p = Problem {
+        data,
+        scatter,
+        evaluations: 0,
+    };
+    // Units that make the ratios dimensionless: flicker against a dwell's white variance,
+    // the random walk over the run against it.
+    let (ub, uk) = (1.0 / dwell, 1.0 / (dwell * span.max(dwell)));
+    let mut cands = Vec::new();
+    for rb in grid(ub) {
+        for rk in grid(uk) {
+            if let Some(c) = p.profile(rb, rk) {
+                cands.push((rb, rk, c));
+            }
+        }
+    }
+    let (mut rb, mut rk, mut best) = cands.iter().max_by(|a, b| a.2.loglik.total_cmp(&b.2.loglik))?.clone();
+    // Refine the non-zero ratios in log steps, halving from the grid's half decade.
+    let mut step = 10f64.powf(0.5);
+    for _ in 0..6 {
+        step = step.sqrt();
+        for (fb, fk) in [(step, 1.0), (1.0 / step, 1.0), (1.0, step), (1.0, 1.0 / step)] {
+            let (cb, ck) = (rb * fb, rk * fk);
+            if cb == rb && ck == rk {
+                continue;
+            }
+            if let Some(c) = p.profile(cb, ck)
+                && c.loglik > best.loglik
+            {
+                (rb, rk, best) = (cb, ck, c);
+            }
+        }
+    }
+    Some(Estimate {
+        best,
+        grid: cands.into_iter().map(|c| c.2).collect(),
+        dof: p.data.t_s.len() - p.data.cols.len() + 3 * p.data.quarters.len(),
+        evaluations: p.evaluations,
+    })
+}

@@ -1,0 +1,213 @@
+//! The azimuth by generalised least squares under a gyro noise model, given or estimated from
+//! the recording, and the check that the Earth rate was resolved at all.
+
+use crate::gls::{self, Cov};
+use crate::noise_est::{self, Data};
+use crate::recording::Recording;
+use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
+use nf_model::fit::{FitConfig, design_row};
+use nf_model::noise::NoiseModel;
+
+/// Where the noise model comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NoiseChoice {
+    /// Estimated from the recording (quarters and the residual sequence).
+    Estimate,
+    /// Given by the user (a file or flags), named for the report.
+    Given(NoiseModel, String),
+}
+
+/// How the noise model was obtained, for the report.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NoiseSource {
+    Estimated { dof: usize, from_quarters: usize },
+    Given(String),
+}
+
+impl NoiseSource {
+    pub fn describe(&self) -> String {
+        match self {
+            NoiseSource::Estimated { dof, from_quarters: 0 } => {
+                format!("estimated from the recording (REML on the dwell means in time order, {dof} dof)")
+            }
+            NoiseSource::Estimated { dof, from_quarters } => format!(
+                "estimated from the recording (quarter means of {from_quarters} dwells and REML on the dwell means in time order, {dof} dof)"
+            ),
+            NoiseSource::Given(s) => format!("given: {s}"),
+        }
+    }
+}
+
+/// The GLS azimuth.
+#[derive(Debug, Clone)]
+pub struct NoiseFit {
+    pub model: NoiseModel,
+    pub source: NoiseSource,
+    /// The dwell length the covariance assumes, and where it came from.
+    pub dwell_s: f64,
+    pub dwell_from: &'static str,
+    pub psi_deg: f64,
+    pub sigma_psi_deg: f64,
+    pub amplitude_dph: f64,
+    pub sigma_amplitude_dph: f64,
+    pub offset_dph: f64,
+    /// Whitened residual sum of squares and its degrees of freedom: about `dof` when the noise
+    /// model describes the recording.
+    pub chi2: f64,
+    pub dof: usize,
+}
+
+/// The dwell length: the metadata, else samples over the sample rate, else 80 % of the
+/// shortest spacing of the dwell centres.
+pub fn dwell_of(rec: &Recording) -> (f64, &'static str) {
+    let meta = |k: &str| rec.meta.get(k).and_then(|v| v.parse::<f64>().ok()).filter(|v| *v > 0.0);
+    if let Some(d) = meta("dwell_s") {
+        return (d, "metadata dwell_s");
+    }
+    if let (Some(rate), Some(s)) = (meta("sample_rate_hz"), rec.rows.first().and_then(|r| r.samples))
+        && s > 0
+    {
+        return (s as f64 / rate, "samples / sample_rate_hz");
+    }
+    let mut t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
+    t.sort_by(f64::total_cmp);
+    let gap = t
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .fold(f64::MAX, f64::min);
+    if gap < f64::MAX {
+        (0.8 * gap, "80 % of the shortest spacing (no dwell_s metadata)")
+    } else {
+        (1.0, "assumed 1 s (no dwell_s metadata, no time spacing)")
+    }
+}
+
+/// Fits `y` (the rates with the tilt correction removed) by GLS.
+pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoice) -> Result<NoiseFit, String> {
+    let n = rec.rows.len();
+    let t0 = rec.rows[0].t_s;
+    let rows: Vec<_> = rec
+        .rows
+        .iter()
+        .map(|r| design_row(cfg, r.encoder_deg, (r.t_s - t0) / cfg.t_scale_s))
+        .collect();
+    let p = cfg.terms().ok_or("bad fit configuration")?;
+    let cols: Vec<Vec<f64>> = (0..p).map(|k| rows.iter().map(|r| r[k]).collect()).collect();
+    let t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
+    let (dwell_s, dwell_from) = dwell_of(rec);
+    if n <= p {
+        return Err(format!("{n} positions, the fit needs more than {p}"));
+    }
+    let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    let (model, source, fits) = match choice {
+        NoiseChoice::Given(m, s) => {
+            let cov = Cov::new(&gls::window_covariance(m, &t, &vec![dwell_s; n]), n)
+                .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
+            let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
+            (*m, NoiseSource::Given(s.clone()), vec![(1.0, g.coef, g.cov)])
+        }
+        NoiseChoice::Estimate => {
+            let e = noise_est::estimate(Data {
+                t_s: &t,
+                dwell_s,
+                cols: &cols,
+                y,
+                quarters: &quarters,
+            })
+            .ok_or("the noise model could not be estimated from the recording")?;
+            // Each grid model weighted by its likelihood: the azimuth's sigma then carries how
+            // poorly one recording pins its own noise down.
+            let top = e.best.loglik;
+            let fits = e
+                .grid
+                .into_iter()
+                .map(|c| ((c.loglik - top).exp(), c.coef, c.cov))
+                .collect();
+            let source = NoiseSource::Estimated {
+                dof: e.dof,
+                from_quarters: quarters.len(),
+            };
+            (e.best.model, source, fits)
+        }
+    };
+    let total: f64 = fits.iter().map(|f| f.0).sum();
+    let per: Vec<(f64, Azimuth)> = fits
+        .iter()
+        .map(|(w, coef, cov)| (w / total, Azimuth::of(coef, cov)))
+        .collect();
+    let best = &per
+        .iter()
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .ok_or("no noise model fits")?
+        .1;
+    let psi0 = best.psi_deg;
+    let mean = |f: &dyn Fn(&Azimuth) -> f64| per.iter().map(|(w, a)| w * f(a)).sum::<f64>();
+    let dpsi = mean(&|a| wrap_180(a.psi_deg - psi0));
+    let amp = mean(&|a| a.amplitude_dph);
+    let var_psi = best.sigma_psi_deg.powi(2) + mean(&|a| (wrap_180(a.psi_deg - psi0) - dpsi).powi(2));
+    let var_amp = best.sigma_amplitude_dph.powi(2) + mean(&|a| (a.amplitude_dph - amp).powi(2));
+    // The whitened residuals of the chosen model tell whether it describes the recording.
+    let cov = Cov::new(&gls::window_covariance(&model, &t, &vec![dwell_s; n]), n)
+        .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
+    let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
+    Ok(NoiseFit {
+        model,
+        source,
+        dwell_s,
+        dwell_from,
+        psi_deg: wrap_360(psi0 + dpsi),
+        sigma_psi_deg: var_psi.sqrt(),
+        amplitude_dph: amp,
+        sigma_amplitude_dph: var_amp.sqrt(),
+        offset_dph: g.coef[0],
+        chi2: g.chi2,
+        dof: g.dof,
+    })
+}
+
+/// Azimuth and amplitude of one fit's `C, A, B` and their covariance.
+struct Azimuth {
+    psi_deg: f64,
+    sigma_psi_deg: f64,
+    amplitude_dph: f64,
+    sigma_amplitude_dph: f64,
+}
+
+impl Azimuth {
+    fn of(coef: &[f64], cov: &[Vec<f64>]) -> Azimuth {
+        let (a, b) = (coef[1], coef[2]);
+        let r2 = a * a + b * b;
+        let (vaa, vbb, vab) = (cov[1][1], cov[2][2], cov[1][2]);
+        let var_psi = (b * b * vaa + a * a * vbb - 2.0 * a * b * vab) / (r2 * r2);
+        let var_amp = (a * a * vaa + b * b * vbb + 2.0 * a * b * vab) / r2;
+        Azimuth {
+            psi_deg: atan2_deg(-b, a),
+            sigma_psi_deg: var_psi.max(0.0).sqrt().to_degrees(),
+            amplitude_dph: r2.sqrt(),
+            sigma_amplitude_dph: var_amp.max(0.0).sqrt(),
+        }
+    }
+}
+
+impl NoiseFit {
+    /// Why the Earth rate is not resolved, if it is not: the azimuth's sigma is tens of
+    /// degrees, or the amplitude is inconsistent with `WE cos(lat)`.
+    pub fn unresolved(&self, predicted_dph: f64) -> Option<String> {
+        let sigma_deg = self.sigma_psi_deg;
+        if sigma_deg.is_nan() || sigma_deg >= 10.0 {
+            return Some(format!(
+                "the azimuth's uncertainty is {sigma_deg:.1} deg: the gyro noise hides the Earth rate"
+            ));
+        }
+        let ratio = self.amplitude_dph / predicted_dph;
+        let off = (self.amplitude_dph - predicted_dph).abs();
+        if !(0.5..=1.5).contains(&ratio) && off > 3.0 * self.sigma_amplitude_dph {
+            return Some(format!(
+                "the first-harmonic amplitude {:.5} deg/h is {ratio:.2} times the Earth rate's {predicted_dph:.5} deg/h at this latitude",
+                self.amplitude_dph
+            ));
+        }
+        None
+    }
+}
