@@ -1,0 +1,122 @@
+//! `nf fit` through coloured gyro noise: over many twin recordings, the GLS sigma is honest
+//! where the white-noise sigma from the residuals is too small, and the estimated noise model
+//! costs little against a fit that knows the true one.
+
+use nf::analysis::{Options, analyse};
+use nf::noise_fit::NoiseChoice;
+use nf::recording::Recording;
+use nf_instrument::run::{RunConfig, TiltPolicy};
+use nf_model::angle::wrap_180;
+use nf_model::noise::NoiseModel;
+use nf_twin::{Recorder, Rng, TwinConfig, simulate};
+
+struct Stats {
+    /// RMS of error / sigma, and RMS error (arcsec): estimated-noise GLS, OLS, known-noise GLS.
+    z_gls: f64,
+    z_ols: f64,
+    err_gls: f64,
+    err_known: f64,
+}
+
+fn run(noise: NoiseModel, positions: u16, seeds: u64) -> Stats {
+    let mut rng = Rng::new(11);
+    let (mut zg, mut zo, mut eg, mut ek) = (0.0, 0.0, 0.0, 0.0);
+    for seed in 0..seeds {
+        let mut twin = TwinConfig {
+            seed: 1000 + seed,
+            noise,
+            ..TwinConfig::default()
+        };
+        twin.instrument.psi_deg = rng.uniform(0.0, 360.0);
+        twin.instrument.tilt_deg = 0.0;
+        twin.start_deg = rng.uniform(0.0, 360.0);
+        let cfg = RunConfig {
+            positions,
+            dwell_ms: 1000,
+            settle_ms: 200,
+            tilt_policy: TiltPolicy::Warn,
+            ..RunConfig::default()
+        };
+        let mut rec = Recorder::default();
+        let (report, _) = simulate(&twin, &cfg, &mut rec);
+        assert_eq!(report.result, Ok(()));
+        let r = Recording::parse(&rec.text()).unwrap();
+        let err = |psi: f64| wrap_180(psi - twin.instrument.psi_deg) * 3600.0;
+        let est = analyse(&r, &Options::default()).unwrap();
+        let known = Options {
+            noise: NoiseChoice::Given(noise, "truth".into()),
+            ..Options::default()
+        };
+        let known = analyse(&r, &known).unwrap();
+        let (e, s) = (err(est.gls.psi_deg), est.gls.sigma_psi_deg * 3600.0);
+        zg += (e / s).powi(2);
+        eg += e * e;
+        zo += (err(est.fit.psi_deg) / (est.fit.sigma_psi_deg * 3600.0)).powi(2);
+        ek += err(known.gls.psi_deg).powi(2);
+    }
+    let k = seeds as f64;
+    Stats {
+        z_gls: (zg / k).sqrt(),
+        z_ols: (zo / k).sqrt(),
+        err_gls: (eg / k).sqrt(),
+        err_known: (ek / k).sqrt(),
+    }
+}
+
+/// White noise of a 1 s dwell mean.
+const SW: f64 = 0.005;
+
+#[test]
+fn flicker_noise_gets_an_honest_sigma() {
+    let noise = NoiseModel {
+        bias_instability_dph: 2.0 * SW,
+        ..NoiseModel::white(SW, 1.0)
+    };
+    let s = run(noise, 36, 60);
+    println!(
+        "flicker B = 2 sw, n = 36: rms z GLS {:.2}, OLS {:.2}; rms error {:.1}\" (known noise {:.1}\")",
+        s.z_gls, s.z_ols, s.err_gls, s.err_known
+    );
+    // 60 draws: the RMS of z is known to about 10 %.
+    assert!((0.75..1.3).contains(&s.z_gls), "{}", s.z_gls);
+    assert!(
+        s.z_ols > 1.6,
+        "the white-noise sigma should be too small here: {}",
+        s.z_ols
+    );
+    assert!(s.err_gls < 1.2 * s.err_known, "{} vs {}", s.err_gls, s.err_known);
+}
+
+#[test]
+fn white_noise_keeps_the_least_squares_sigma() {
+    let s = run(NoiseModel::white(SW, 1.0), 36, 60);
+    println!(
+        "white, n = 36: rms z GLS {:.2}, OLS {:.2}; rms error {:.1}\" (known noise {:.1}\")",
+        s.z_gls, s.z_ols, s.err_gls, s.err_known
+    );
+    assert!((0.75..1.25).contains(&s.z_gls), "{}", s.z_gls);
+    assert!(s.err_gls < 1.08 * s.err_known, "{} vs {}", s.err_gls, s.err_known);
+}
+
+#[test]
+fn random_walk_and_gauss_markov_bias_get_an_honest_sigma() {
+    for noise in [
+        NoiseModel {
+            rrw_dph_rth: 0.5,
+            ..NoiseModel::white(SW, 1.0)
+        },
+        NoiseModel {
+            gm_sigma_dph: 3.0 * SW,
+            gm_tau_s: 30.0,
+            ..NoiseModel::white(SW, 1.0)
+        },
+    ] {
+        let s = run(noise, 36, 40);
+        println!(
+            "{noise:?}: rms z GLS {:.2}, OLS {:.2}; rms error {:.1}\" (known noise {:.1}\")",
+            s.z_gls, s.z_ols, s.err_gls, s.err_known
+        );
+        assert!((0.7..1.35).contains(&s.z_gls), "{}", s.z_gls);
+        assert!(s.err_gls < 1.25 * s.err_known, "{} vs {}", s.err_gls, s.err_known);
+    }
+}
