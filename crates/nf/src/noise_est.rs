@@ -10,8 +10,8 @@
 //! recording allows instead of trusting one estimate.
 
 use crate::gls::{self, Cov};
-use std::f64::consts::FRAC_1_SQRT_2;
 use nf_model::noise::NoiseModel;
+use std::f64::consts::FRAC_1_SQRT_2;
 
 /// What the estimate sees of a recording.
 #[derive(Debug, Clone)]
