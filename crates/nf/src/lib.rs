@@ -10,8 +10,10 @@ pub mod noise_est;
 pub mod noise_fit;
 pub mod paper;
 pub mod plan;
+pub mod plan_noise;
 pub mod plot;
 pub mod recording;
+pub mod schedule;
 mod stats;
 
 mod cli;

@@ -1,0 +1,256 @@
+//! Planning under the gyro's noise model: the azimuth uncertainty of a run (GLS under the model,
+//! on the run's own time structure), and the run that reaches a target in the least time over
+//! visiting orders, numbers of positions and dwells. With coloured noise a longer run can be
+//! worse: the search also reports the floor, the best any run of the searched kinds achieves.
+
+use crate::gls::{self, Cov};
+use crate::schedule::{Schedule, Timing};
+use nf_model::noise::NoiseModel;
+use nf_model::uncertainty::{amplitude_dph, encoder_arcsec, tilt_arcsec};
+
+/// What besides the gyro goes into the budget.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    pub latitude_deg: f64,
+    /// Encoder error, independent at each position, deg.
+    pub encoder_deg: f64,
+    /// Shaft tilt left after levelling (or the inclinometer's uncertainty when corrected), deg.
+    pub tilt_deg: f64,
+}
+
+/// Gyro part of the azimuth uncertainty (arcsec, RMS over the azimuth) of a schedule under the
+/// noise model, with the fit `C + A cos + B sin` by GLS.
+pub fn gyro_arcsec(model: &NoiseModel, s: &Schedule, latitude_deg: f64) -> Option<f64> {
+    let n = s.gamma_deg.len();
+    let cols = vec![
+        vec![1.0; n],
+        s.gamma_deg.iter().map(|g| g.to_radians().cos()).collect(),
+        s.gamma_deg.iter().map(|g| g.to_radians().sin()).collect(),
+    ];
+    let cov = Cov::new(&gls::window_covariance(model, &s.t_mid_s, &vec![s.dwell_s; n]), n)?;
+    let g = gls::fit(&cols, &vec![0.0; n], &cov)?;
+    // The variance across the first harmonic, averaged over the unknown azimuth.
+    let var = (g.cov[1][1] + g.cov[2][2]) / 2.0;
+    Some(var.sqrt() / amplitude_dph(latitude_deg) * 3600f64.to_degrees())
+}
+
+/// Total azimuth uncertainty of a schedule, arcsec.
+pub fn total_arcsec(model: &NoiseModel, s: &Schedule, b: &Budget) -> Option<f64> {
+    let g = gyro_arcsec(model, s, b.latitude_deg)?;
+    let e = encoder_arcsec(s.gamma_deg.len() as u32, b.encoder_deg);
+    let t = tilt_arcsec(b.tilt_deg, b.latitude_deg);
+    Some((g * g + e * e + t * t).sqrt())
+}
+
+/// One planned run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    pub order: &'static str,
+    pub n: usize,
+    pub dwell_s: f64,
+    /// Levelling plus the positions, s.
+    pub time_s: f64,
+    pub sigma_arcsec: f64,
+}
+
+/// A visiting order by name: the position numbers of `n` equal steps in visiting order.
+pub struct OrderKind {
+    pub name: &'static str,
+    pub positions: fn(usize) -> Option<Vec<usize>>,
+}
+
+/// The search space.
+#[derive(Debug, Clone)]
+pub struct Space {
+    pub dwells_s: Vec<f64>,
+    pub positions: Vec<usize>,
+    /// Longest run considered, s.
+    pub max_time_s: f64,
+}
+
+impl Default for Space {
+    fn default() -> Self {
+        let mut positions: Vec<usize> = (4..=40).step_by(2).collect();
+        positions.extend((44..=100).step_by(4));
+        positions.extend((108..=200).step_by(8));
+        positions.extend((216..=720).step_by(24));
+        Space {
+            dwells_s: vec![
+                0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0,
+            ],
+            positions,
+            max_time_s: 4.0 * 3600.0,
+        }
+    }
+}
+
+/// What the search found.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The fastest run that reaches the target, if any does.
+    pub fastest: Option<Candidate>,
+    /// The fastest run of each order that reaches the target.
+    pub per_order: Vec<Candidate>,
+    /// When no run reaches the target: the smallest uncertainty any searched run reaches.
+    pub floor: Option<Candidate>,
+}
+
+/// Searches orders, dwells and numbers of positions for the fastest run that reaches
+/// `target_arcsec`. `levelling_s` is the fixed time before the first position.
+pub fn search(
+    model: &NoiseModel,
+    budget: &Budget,
+    timing: &Timing,
+    orders: &[OrderKind],
+    space: &Space,
+    target_arcsec: f64,
+    levelling_s: f64,
+) -> Plan {
+    let mut plan = Plan {
+        fastest: None,
+        per_order: Vec::new(),
+        floor: None,
+    };
+    for kind in orders {
+        let mut best: Option<Candidate> = None;
+        for &dwell in &space.dwells_s {
+            let tm = Timing {
+                dwell_s: dwell,
+                ..*timing
+            };
+            let mut best_here: Option<f64> = None;
+            for &n in &space.positions {
+                let Some(order) = (kind.positions)(n) else { continue };
+                let s = Schedule::new(&order, n, n / 2, &tm);
+                let time = levelling_s + s.duration_s;
+                if time > space.max_time_s {
+                    break;
+                }
+                let Some(sigma) = total_arcsec(model, &s, budget) else {
+                    continue;
+                };
+                let c = Candidate {
+                    order: kind.name,
+                    n,
+                    dwell_s: dwell,
+                    time_s: time,
+                    sigma_arcsec: sigma,
+                };
+                if plan.floor.as_ref().is_none_or(|f| sigma < f.sigma_arcsec) {
+                    plan.floor = Some(c.clone());
+                }
+                let past_floor = best_here.is_some_and(|b| sigma > 1.5 * b);
+                best_here = Some(best_here.map_or(sigma, |b: f64| b.min(sigma)));
+                if sigma <= target_arcsec {
+                    if best.as_ref().is_none_or(|b| time < b.time_s) {
+                        best = Some(c);
+                    }
+                    // More positions at this dwell only take longer.
+                    break;
+                }
+                // Coloured noise: past the best run length, longer runs only get worse.
+                if past_floor {
+                    break;
+                }
+            }
+        }
+        if let Some(b) = best {
+            if plan.fastest.as_ref().is_none_or(|f| b.time_s < f.time_s) {
+                plan.fastest = Some(b.clone());
+            }
+            plan.per_order.push(b);
+        }
+    }
+    if plan.fastest.is_some() {
+        plan.floor = None;
+    }
+    plan
+}
+
+/// The named visiting orders.
+pub fn named_orders() -> Vec<OrderKind> {
+    vec![
+        OrderKind {
+            name: "sequential",
+            positions: |n| Some((0..n).collect()),
+        },
+        OrderKind {
+            name: "forward-back",
+            positions: |n| Some((0..n).step_by(2).chain((1..n).step_by(2).rev()).collect()),
+        },
+        OrderKind {
+            name: "opposite-pairs",
+            positions: |n| (n % 2 == 0).then(|| (0..n / 2).flat_map(|k| [k, k + n / 2]).collect()),
+        },
+        OrderKind {
+            name: "interleaved",
+            positions: |n| Some((0..n).step_by(2).chain((1..n).step_by(2)).collect()),
+        },
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn paper() -> (NoiseModel, Budget) {
+        (
+            NoiseModel::white(0.005, 2.0),
+            Budget {
+                latitude_deg: 43.8,
+                encoder_deg: 0.0,
+                tilt_deg: 0.0,
+            },
+        )
+    }
+
+    #[test]
+    fn white_noise_gives_eq_24_whatever_the_order() {
+        let (m, b) = paper();
+        let tm = Timing::default();
+        for kind in named_orders() {
+            let s = Schedule::new(&(kind.positions)(72).unwrap(), 72, 36, &tm);
+            let g = gyro_arcsec(&m, &s, b.latitude_deg).unwrap();
+            let eq24 = nf_model::paper::eq24_arcsec(72, 0.005, 43.8);
+            assert!((g / eq24 - 1.0).abs() < 1e-6, "{}: {g} vs {eq24}", kind.name);
+        }
+    }
+
+    /// A motor that turns half a turn in 0.5 s and a 5 deg step in about 0.07 s.
+    fn fast() -> Timing {
+        Timing {
+            motor: nf_instrument::stepper::Config {
+                max_sps: 40_000.0,
+                accel_sps2: 400_000.0,
+                ..Default::default()
+            },
+            ..Timing::default()
+        }
+    }
+
+    #[test]
+    fn flicker_sets_a_floor_that_balanced_orders_lower() {
+        // The paper's gyro with the bias instability that makes Table 1 scatter 33".
+        let (white, b) = paper();
+        let m = NoiseModel {
+            bias_instability_dph: 0.004,
+            ..white
+        };
+        let tm = fast();
+        let half = tm.move_s(16_000) + tm.settle_s;
+        assert!((0.75..0.85).contains(&half), "{half}");
+        let orders = named_orders();
+        let space = Space {
+            dwells_s: vec![0.5, 1.0, 2.0, 4.0],
+            positions: (8..=160).step_by(8).collect(),
+            max_time_s: 1200.0,
+        };
+        let plan = search(&m, &b, &tm, &orders[..1], &space, 18.0, 5.0);
+        let floor = plan.floor.expect("a sequential run cannot reach 18\" with this gyro");
+        assert!(plan.fastest.is_none() && floor.sigma_arcsec > 25.0, "{floor:?}");
+        let pairs = search(&m, &b, &tm, &orders[2..3], &space, 18.0, 5.0);
+        let fastest = pairs.fastest.expect("opposite pairs reach 18\"");
+        println!("sequential floor {floor:?}\nopposite pairs {fastest:?}");
+        assert!(fastest.time_s < 250.0, "{fastest:?}");
+    }
+}
