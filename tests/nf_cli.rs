@@ -159,6 +159,51 @@ fn plan_budget_target_and_monte_carlo() {
 }
 
 #[test]
+fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
+    // The paper's gyro with flicker, a motor that turns half a turn in 0.5 s, no tilt residue.
+    let fast = [
+        "--tilt",
+        "0",
+        "--max-sps",
+        "40000",
+        "--accel",
+        "400000",
+        "--mc-runs",
+        "0",
+    ];
+    let args = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v = vec!["plan", "--bias-instability", "0.004", "--json"];
+        v.extend_from_slice(&fast);
+        v.extend_from_slice(extra);
+        v
+    };
+    let (code, out, err) = nf(&args(&["--target", "18"]));
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["fastest"]["order"], "opposite-pairs", "{out}");
+    let t = j["fastest"]["time_s"].as_f64().unwrap();
+    assert!(
+        t < 250.0 && j["fastest"]["sigma_arcsec"].as_f64().unwrap() <= 18.0,
+        "{out}"
+    );
+    // A sequential run of the paper's size scatters far more than white noise says.
+    let seq = j["budget_noise_model"]["gyro_arcsec"].as_f64().unwrap();
+    assert!(seq > 2.0 * j["budget_exact"]["gyro_arcsec"].as_f64().unwrap(), "{out}");
+    let (code, out, _) = nf(&args(&["--target", "3", "--max-time", "400"]));
+    assert_eq!(code, 0);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        j["fastest"].is_null() && j["floor"]["sigma_arcsec"].as_f64().unwrap() > 3.0,
+        "{out}"
+    );
+    let (code, _, err) = nf(&["plan", "--bias-instability", "-1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("bias_instability_dph"), "{err}");
+    let (code, _, err) = nf(&["plan", "--order", "spiral"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+#[test]
 fn paper_prints_stated_and_recomputed_tables() {
     let (code, out, _) = nf(&["paper"]);
     assert_eq!(code, 0);

@@ -4,7 +4,7 @@ pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;
 pub mod gls;
-mod linfit;
+pub(crate) mod linfit;
 pub mod logparse;
 pub mod noise_est;
 pub mod noise_fit;

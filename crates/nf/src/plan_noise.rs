@@ -4,6 +4,7 @@
 //! worse: the search also reports the floor, the best any run of the searched kinds achieves.
 
 use crate::gls::{self, Cov};
+use crate::linfit;
 use crate::schedule::{Schedule, Timing};
 use nf_model::noise::NoiseModel;
 use nf_model::uncertainty::{amplitude_dph, encoder_arcsec, tilt_arcsec};
@@ -27,10 +28,17 @@ pub fn gyro_arcsec(model: &NoiseModel, s: &Schedule, latitude_deg: f64) -> Optio
         s.gamma_deg.iter().map(|g| g.to_radians().cos()).collect(),
         s.gamma_deg.iter().map(|g| g.to_radians().sin()).collect(),
     ];
-    let cov = Cov::new(&gls::window_covariance(model, &s.t_mid_s, &vec![s.dwell_s; n]), n)?;
-    let g = gls::fit(&cols, &vec![0.0; n], &cov)?;
+    let cov_ab = if model.is_coloured() {
+        let cov = Cov::new(&gls::window_covariance(model, &s.t_mid_s, &vec![s.dwell_s; n]), n)?;
+        gls::fit(&cols, &vec![0.0; n], &cov)?.cov
+    } else {
+        // Independent dwell means: least squares, no n x n factor needed.
+        let ls = linfit::fit(&cols, &vec![0.0; n])?;
+        let v = model.independent_var(s.dwell_s);
+        ls.cov_unit.iter().map(|r| r.iter().map(|c| c * v).collect()).collect()
+    };
     // The variance across the first harmonic, averaged over the unknown azimuth.
-    let var = (g.cov[1][1] + g.cov[2][2]) / 2.0;
+    let var = (cov_ab[1][1] + cov_ab[2][2]) / 2.0;
     Some(var.sqrt() / amplitude_dph(latitude_deg) * 3600f64.to_degrees())
 }
 
@@ -89,7 +97,8 @@ impl Default for Space {
 pub struct Plan {
     /// The fastest run that reaches the target, if any does.
     pub fastest: Option<Candidate>,
-    /// The fastest run of each order that reaches the target.
+    /// For each order, its fastest run that reaches the target, where it is not slower than the
+    /// fastest run of the orders searched before it.
     pub per_order: Vec<Candidate>,
     /// When no run reaches the target: the smallest uncertainty any searched run reaches.
     pub floor: Option<Candidate>,
@@ -111,6 +120,10 @@ pub fn search(
         per_order: Vec::new(),
         floor: None,
     };
+    // No run beats the levelling residue.
+    if tilt_arcsec(budget.tilt_deg, budget.latitude_deg) >= target_arcsec {
+        return plan;
+    }
     for kind in orders {
         let mut best: Option<Candidate> = None;
         for &dwell in &space.dwells_s {
@@ -123,7 +136,12 @@ pub fn search(
                 let Some(order) = (kind.positions)(n) else { continue };
                 let s = Schedule::new(&order, n, n / 2, &tm);
                 let time = levelling_s + s.duration_s;
-                if time > space.max_time_s {
+                // Longer than allowed, or than a run already found: more positions only add time.
+                let bound = [best.as_ref(), plan.fastest.as_ref()]
+                    .into_iter()
+                    .flatten()
+                    .fold(space.max_time_s, |m, c| m.min(c.time_s));
+                if time > bound {
                     break;
                 }
                 let Some(sigma) = total_arcsec(model, &s, budget) else {
@@ -167,24 +185,25 @@ pub fn search(
     plan
 }
 
-/// The named visiting orders.
+/// The named visiting orders; the search tries the ones that resist drift and flicker first, so
+/// that their runs bound the others'.
 pub fn named_orders() -> Vec<OrderKind> {
     vec![
         OrderKind {
-            name: "sequential",
-            positions: |n| Some((0..n).collect()),
+            name: "opposite-pairs",
+            positions: |n| (n % 2 == 0).then(|| (0..n / 2).flat_map(|k| [k, k + n / 2]).collect()),
         },
         OrderKind {
             name: "forward-back",
             positions: |n| Some((0..n).step_by(2).chain((1..n).step_by(2).rev()).collect()),
         },
         OrderKind {
-            name: "opposite-pairs",
-            positions: |n| (n % 2 == 0).then(|| (0..n / 2).flat_map(|k| [k, k + n / 2]).collect()),
-        },
-        OrderKind {
             name: "interleaved",
             positions: |n| Some((0..n).step_by(2).chain((1..n).step_by(2)).collect()),
+        },
+        OrderKind {
+            name: "sequential",
+            positions: |n| Some((0..n).collect()),
         },
     ]
 }
@@ -245,10 +264,10 @@ mod tests {
             positions: (8..=160).step_by(8).collect(),
             max_time_s: 1200.0,
         };
-        let plan = search(&m, &b, &tm, &orders[..1], &space, 18.0, 5.0);
+        let plan = search(&m, &b, &tm, &orders[3..], &space, 18.0, 5.0);
         let floor = plan.floor.expect("a sequential run cannot reach 18\" with this gyro");
         assert!(plan.fastest.is_none() && floor.sigma_arcsec > 25.0, "{floor:?}");
-        let pairs = search(&m, &b, &tm, &orders[2..3], &space, 18.0, 5.0);
+        let pairs = search(&m, &b, &tm, &orders[..1], &space, 18.0, 5.0);
         let fastest = pairs.fastest.expect("opposite pairs reach 18\"");
         println!("sequential floor {floor:?}\nopposite pairs {fastest:?}");
         assert!(fastest.time_s < 250.0, "{fastest:?}");

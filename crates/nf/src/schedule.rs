@@ -58,8 +58,19 @@ impl Schedule {
         let mut t = 0.0;
         let mut at = start;
         let (mut gamma_deg, mut t_mid_s) = (Vec::with_capacity(order.len()), Vec::with_capacity(order.len()));
+        // A run has few distinct move lengths: time each once.
+        let mut moves: Vec<(u32, f64)> = Vec::new();
         for &k in order {
-            t += timing.move_s(timing.steps_between(at, k, n)) + timing.settle_s;
+            let steps = timing.steps_between(at, k, n);
+            let m = match moves.iter().find(|m| m.0 == steps) {
+                Some(m) => m.1,
+                None => {
+                    let m = timing.move_s(steps);
+                    moves.push((steps, m));
+                    m
+                }
+            };
+            t += m + timing.settle_s;
             gamma_deg.push(k as f64 * 360.0 / n as f64);
             t_mid_s.push(t + timing.dwell_s / 2.0);
             t += timing.dwell_s + timing.per_position_s;

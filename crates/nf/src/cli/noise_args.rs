@@ -7,25 +7,25 @@ use nf_model::noise::NoiseModel;
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct NoiseArgs {
     /// Angle random walk N, deg/sqrt(h).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub arw: Option<f64>,
     /// Bias instability B (flicker), deg/h.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub bias_instability: Option<f64>,
     /// Rate random walk K, deg/h/sqrt(h).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub rrw: Option<f64>,
     /// Gauss-Markov bias: standard deviation, deg/h (with --gm-tau).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub gm_sigma: Option<f64>,
     /// Gauss-Markov bias: correlation time, s.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub gm_tau: Option<f64>,
     /// Output quantisation Q, arcsec.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub quantization: Option<f64>,
     /// Heavy-tailed sample noise: Student-t degrees of freedom (> 2).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub student_t_dof: Option<f64>,
 }
 

@@ -1,16 +1,22 @@
 //! `nf plan`: budgets, the fastest run for a target and a Monte Carlo check.
 
+use super::noise_args::NoiseArgs;
 use super::{Fail, positive};
+use crate::plan_noise::{self, Candidate, OrderKind, Space};
 use crate::plot::{Panel, Series, Style};
+use crate::schedule::{Schedule, Timing};
 use crate::{plan, plot};
+use nf_instrument::stepper;
+use nf_model::noise::NoiseModel;
 use nf_model::uncertainty::{Budget, allocate, tilt_arcsec};
-use serde_json::json;
+use serde_json::{Value, json};
 
 #[derive(clap::Args)]
 pub struct PlanArgs {
     #[arg(long, default_value_t = 43.8, allow_hyphen_values = true)]
     lat: f64,
-    /// Gyro noise of one position's mean, deg/h, for a dwell of --ref-dwell.
+    /// White gyro noise of one position's mean, deg/h, for a dwell of --ref-dwell (sets the
+    /// ARW unless --arw is given).
     #[arg(long, default_value_t = 0.005)]
     gyro_noise: f64,
     #[arg(long, default_value_t = 2.0)]
@@ -27,12 +33,30 @@ pub struct PlanArgs {
     /// Dwell of the planned run, s.
     #[arg(long, default_value_t = 2.0)]
     dwell: f64,
-    /// Move and settle time per position, s.
-    #[arg(long, default_value_t = 0.2)]
-    overhead: f64,
+    /// Visiting order of the planned run.
+    #[arg(long, default_value = "sequential")]
+    order: String,
+    /// Settling time after each move, s.
+    #[arg(long, default_value_t = 0.3)]
+    settle: f64,
+    /// Stepper cruise speed, steps/s.
+    #[arg(long, default_value_t = stepper::Config::default().max_sps as f64)]
+    max_sps: f64,
+    /// Stepper acceleration, steps/s^2.
+    #[arg(long, default_value_t = stepper::Config::default().accel_sps2 as f64)]
+    accel: f64,
+    /// Motor steps per shaft turn.
+    #[arg(long, default_value_t = stepper::Config::default().steps_per_rev)]
+    steps_per_rev: u32,
+    /// Coloured noise terms (bias instability, random walk, Gauss-Markov) of the gyro.
+    #[command(flatten)]
+    noise: NoiseArgs,
     /// Target uncertainty, arcsec.
     #[arg(long)]
     target: Option<f64>,
+    /// Longest run the search considers, s.
+    #[arg(long, default_value_t = Space::default().max_time_s)]
+    max_time: f64,
     /// Monte Carlo runs checking the formula (0: none).
     #[arg(long, default_value_t = 2000)]
     mc_runs: u32,
@@ -45,26 +69,104 @@ pub struct PlanArgs {
     plot: Option<String>,
 }
 
-pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
-    if a.n < 4 || !positive(a.dwell) || !positive(a.ref_dwell) || !(-89.0..=89.0).contains(&a.lat) {
-        return Err(Fail("need n >= 4, positive dwells and |lat| <= 89 deg".into(), 2));
+fn candidate_json(c: &Candidate) -> Value {
+    json!({"order": c.order, "n": c.n, "dwell_s": c.dwell_s, "time_s": c.time_s, "sigma_arcsec": c.sigma_arcsec})
+}
+
+fn describe(c: &Candidate) -> String {
+    format!(
+        "{} order, n = {}, dwell {} s: {:.1}\" in {:.0} s",
+        c.order, c.n, c.dwell_s, c.sigma_arcsec, c.time_s
+    )
+}
+
+fn check(a: &PlanArgs) -> Result<(), Fail> {
+    let finite_nonneg = |v: f64| v.is_finite() && v >= 0.0;
+    let ok = (4..=720).contains(&a.n)
+        && positive(a.dwell)
+        && a.dwell <= 600.0
+        && positive(a.ref_dwell)
+        && (-89.0..=89.0).contains(&a.lat)
+        && finite_nonneg(a.gyro_noise)
+        && finite_nonneg(a.encoder)
+        && finite_nonneg(a.tilt)
+        && finite_nonneg(a.settle)
+        && a.max_sps.is_finite()
+        && a.max_sps >= 1.0
+        && a.accel.is_finite()
+        && a.accel > 0.0
+        && a.steps_per_rev > 0
+        && positive(a.max_time)
+        && a.max_time.is_finite()
+        && a.target.is_none_or(|t| positive(t) && t.is_finite());
+    if ok {
+        Ok(())
+    } else {
+        Err(Fail(
+            "need 4 <= n <= 720, 0 < dwell <= 600 s, |lat| <= 89 deg, noise, encoder, tilt and settle finite and >= 0, a positive target, speed >= 1 step/s, acceleration > 0, a finite positive max time".into(),
+            2,
+        ))
     }
+}
+
+pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
+    check(&a)?;
+    let model = a.noise.apply(NoiseModel::white(a.gyro_noise, a.ref_dwell))?;
+    let timing = Timing {
+        motor: stepper::Config {
+            steps_per_rev: a.steps_per_rev,
+            max_sps: a.max_sps as f32,
+            accel_sps2: a.accel as f32,
+            ..Default::default()
+        },
+        settle_s: a.settle,
+        dwell_s: a.dwell,
+        ..Timing::default()
+    };
+    let orders = plan_noise::named_orders();
+    let names: Vec<&str> = orders.iter().map(|o| o.name).collect();
+    let kind: &OrderKind = orders
+        .iter()
+        .find(|o| o.name == a.order)
+        .ok_or_else(|| Fail(format!("--order: '{}' is not one of {}", a.order, names.join(", ")), 2))?;
+    let n = a.n as usize;
+    let positions = (kind.positions)(n).ok_or_else(|| Fail(format!("the {} order needs an even n", kind.name), 2))?;
+    // Levelling: two half turns, settling and an inclinometer reading at each.
+    let levelling_s = 2.0 * (timing.move_s(a.steps_per_rev / 2) + a.settle + timing.per_position_s);
+    let schedule = Schedule::new(&positions, n, n / 2, &timing);
+    let time_s = levelling_s + schedule.duration_s;
+    let budget = plan_noise::Budget {
+        latitude_deg: a.lat,
+        encoder_deg: a.encoder,
+        tilt_deg: a.tilt,
+    };
+    let noise_gyro = plan_noise::gyro_arcsec(&model, &schedule, a.lat);
+    let noise_total = plan_noise::total_arcsec(&model, &schedule, &budget);
     let inp = plan::Inputs {
         latitude_deg: a.lat,
-        gyro_dph: a.gyro_noise,
+        gyro_dph: model.white_mean_sd_dph(a.ref_dwell),
         ref_dwell_s: a.ref_dwell,
         encoder_deg: a.encoder,
         tilt_deg: a.tilt,
         n: a.n,
         dwell_s: a.dwell,
-        overhead_s: a.overhead,
         gyro_elev_deg: 0.01,
     };
     let s = inp.sigmas(a.dwell);
     let paper_b = Budget::paper(a.n, &s, a.lat, 45.0, inp.gyro_elev_deg);
     let exact_b = Budget::closed_form(a.n, &s, a.lat);
     let num_b = plan::numerical(&inp);
-    let fastest = a.target.and_then(|t| plan::fastest(&inp, t));
+    let search = a.target.map(|t| {
+        let bar = indicatif::ProgressBar::new_spinner();
+        bar.set_message("searching orders, n and dwells");
+        let space = Space {
+            max_time_s: a.max_time,
+            ..Space::default()
+        };
+        let p = plan_noise::search(&model, &budget, &timing, &orders, &space, t, levelling_s);
+        bar.finish_and_clear();
+        p
+    });
     let allowance = a.target.map(|t| allocate(t, a.n, a.lat));
     let paper_n = a.target.and_then(|t| plan::paper_n(&inp, t));
     let mc = (a.mc_runs > 0).then(|| {
@@ -77,6 +179,14 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     if let Some(p) = &a.plot {
         let ns: Vec<u32> = (2..=72).map(|k| k * 5).collect();
         let curve = |f: &dyn Fn(u32) -> f64| ns.iter().map(|&n| (n as f64, f(n))).collect::<Vec<_>>();
+        let under_noise = ns
+            .iter()
+            .filter_map(|&m| {
+                let pos = (kind.positions)(m as usize)?;
+                let sc = Schedule::new(&pos, m as usize, m as usize / 2, &timing);
+                Some((m as f64, plan_noise::total_arcsec(&model, &sc, &budget)?))
+            })
+            .collect();
         let panel = Panel {
             title: format!("azimuth uncertainty, lat {} deg, dwell {} s", a.lat, a.dwell),
             x_label: "positions n".into(),
@@ -88,8 +198,13 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                     style: Style::Line,
                 },
                 Series {
-                    name: "exact model".into(),
+                    name: "exact model, white noise".into(),
                     points: curve(&|n| Budget::closed_form(n, &s, a.lat).total_arcsec),
+                    style: Style::Line,
+                },
+                Series {
+                    name: format!("noise model, {} order (GLS)", kind.name),
+                    points: under_noise,
                     style: Style::Line,
                 },
             ],
@@ -100,11 +215,15 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     let bj = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
     if a.json {
         let j = json!({
-            "n": a.n, "dwell_s": a.dwell, "time_s": inp.time_s(a.n, a.dwell),
+            "n": a.n, "dwell_s": a.dwell, "order": kind.name, "time_s": time_s,
             "gyro_dph_per_position": s.gyro_dph,
+            "noise_model": {"arw_deg_rth": model.arw_deg_rth, "bias_instability_dph": model.bias_instability_dph, "rrw_dph_rth": model.rrw_dph_rth, "gm_sigma_dph": model.gm_sigma_dph, "gm_tau_s": model.gm_tau_s, "quantization_arcsec": model.quantization_arcsec},
+            "budget_noise_model": {"gyro_arcsec": noise_gyro, "total_arcsec": noise_total},
             "budget_eq31_paper": bj(&paper_b), "budget_exact": bj(&exact_b), "budget_numerical": bj(&num_b),
             "target_arcsec": a.target,
-            "fastest": fastest.map(|(n, d, t)| json!({"n": n, "dwell_s": d, "time_s": t})),
+            "fastest": search.as_ref().and_then(|p| p.fastest.as_ref()).map(candidate_json),
+            "fastest_per_order": search.as_ref().map(|p| p.per_order.iter().map(candidate_json).collect::<Vec<_>>()),
+            "floor": search.as_ref().and_then(|p| p.floor.as_ref()).map(candidate_json),
             "paper_n_for_target": paper_n,
             "allowance_for_target": allowance.map(|s| json!({"gyro_dph": s.gyro_dph, "encoder_deg": s.encoder_deg, "tilt_deg": s.tilt_deg})),
             "monte_carlo": mc.map(|(m, f)| json!({"runs": a.mc_runs, "sd_arcsec": m, "formula_arcsec": f})),
@@ -113,11 +232,8 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         return Ok(());
     }
     println!(
-        "planned run: n = {}, dwell {} s (gyro {:.5} deg/h per position), {:.0} s to north",
-        a.n,
-        a.dwell,
-        s.gyro_dph,
-        inp.time_s(a.n, a.dwell)
+        "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position), {:.0} s to north with levelling and moves",
+        a.n, a.dwell, kind.name, s.gyro_dph, time_s
     );
     println!(
         "{:<22} {:>9} {:>9} {:>9} {:>9}",
@@ -125,7 +241,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     );
     for (name, b) in [
         ("Eq. 31 (paper)", paper_b),
-        ("exact, closed form", exact_b),
+        ("exact, white noise", exact_b),
         ("exact, numerical", num_b),
     ] {
         println!(
@@ -133,15 +249,30 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
             b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec, b.total_arcsec
         );
     }
-    if let Some(t) = a.target {
-        match fastest {
-            Some((n, d, time)) => {
-                println!("target {t}\": fastest is n = {n} at {d} s dwell, {time:.0} s to north (exact model)")
-            }
-            None => println!(
-                "target {t}\": not reachable: the tilt term alone is {:.2}\"",
+    if let (Some(g), Some(t)) = (noise_gyro, noise_total) {
+        println!(
+            "{:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
+            "noise model (GLS)", g, exact_b.encoder_arcsec, exact_b.tilt_arcsec, t
+        );
+    }
+    if let (Some(t), Some(p)) = (a.target, &search) {
+        match &p.fastest {
+            Some(c) => println!("target {t}\": fastest run under the noise model: {}", describe(c)),
+            None if tilt_arcsec(a.tilt, a.lat) >= t => println!(
+                "target {t}\": not reachable: the levelling residue alone (tilt {} deg) gives {:.2}\"",
+                a.tilt,
                 tilt_arcsec(a.tilt, a.lat)
             ),
+            None => {
+                let floor = p.floor.as_ref().map_or("no run".to_string(), describe);
+                println!(
+                    "target {t}\": not reachable with this gyro and motor in runs up to {:.0} s: the best is {floor}",
+                    a.max_time
+                )
+            }
+        }
+        for c in &p.per_order {
+            println!("  fastest {}", describe(c));
         }
         if let Some(s) = allowance {
             println!(
@@ -151,7 +282,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         }
         match paper_n {
             Some(n) => println!(
-                "target {t}\": the paper's Eq. 31 asks for n = {n} at {} s dwell",
+                "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s dwell",
                 a.dwell
             ),
             None => println!("target {t}\": not reachable by the paper's Eq. 31"),
@@ -159,7 +290,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     }
     if let Some((m, f)) = mc {
         println!(
-            "Monte Carlo, {} runs: sd {m:.2}\" against the formula {f:.2}\" ({:+.1}%)",
+            "Monte Carlo (white noise), {} runs: sd {m:.2}\" against the formula {f:.2}\" ({:+.1}%)",
             a.mc_runs,
             (m / f - 1.0) * 100.0
         );
