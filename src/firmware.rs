@@ -24,9 +24,9 @@ use nf_instrument::adc::{AdcError, Ads1256};
 use nf_instrument::clock::Clock;
 use nf_instrument::encoder::{self, BissEncoder};
 use nf_instrument::inclinometer::Inclinometer;
-use nf_instrument::link::{self, Command, Setting};
+use nf_instrument::link::{self, Command};
 use nf_instrument::record::{MAX_LINE, write_fixed};
-use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, RunReport, Sink, TiltPolicy};
+use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, RunReport, Sink};
 use nf_instrument::stepper::{self, StepDir};
 use {defmt_rtt as _, panic_probe as _};
 
@@ -152,7 +152,7 @@ async fn link_rx_task(mut rx: UartRx<'static, Async>) {
                     Ok(cmd) => handle(cmd).await,
                     Err(e) => {
                         let mut l = Line::new();
-                        let _ = write!(l, "ERR {}", e.message());
+                        let _ = write!(l, "ERR {e}");
                         TX.send(l).await;
                     }
                 }
@@ -173,19 +173,20 @@ async fn handle(cmd: Command) {
     match cmd {
         Command::Set(_) | Command::Start if running => reply("ERR a run is in progress").await,
         Command::Set(s) => {
-            CONFIG.lock(|c| {
+            let r = CONFIG.lock(|c| {
                 let mut cfg = c.get();
-                match s {
-                    Setting::Positions(n) => cfg.positions = n,
-                    Setting::DwellMs(v) => cfg.dwell_ms = v,
-                    Setting::SettleMs(v) => cfg.settle_ms = v,
-                    Setting::LatitudeDeg(v) => cfg.latitude_deg = v,
-                    Setting::TiltLimitDeg(v) => cfg.tilt_limit_deg = v,
-                    Setting::TiltRefuse(r) => cfg.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
-                }
+                let r = link::apply(&mut cfg, s);
                 c.set(cfg);
+                r
             });
-            reply("OK").await;
+            match r {
+                Ok(()) => reply("OK").await,
+                Err(e) => {
+                    let mut l = Line::new();
+                    let _ = write!(l, "ERR {e}");
+                    TX.send(l).await;
+                }
+            }
         }
         Command::Start => {
             ABORT.store(false, Ordering::Relaxed);
@@ -202,8 +203,11 @@ async fn handle(cmd: Command) {
             let mut l = Line::new();
             let _ = write!(
                 l,
-                "CONFIG n {} dwell_ms {} settle_ms {} lat ",
-                c.positions, c.dwell_ms, c.settle_ms
+                "CONFIG n {} order {} dwell_ms {} settle_ms {} lat ",
+                c.positions,
+                c.order.name(),
+                c.dwell_ms,
+                c.settle_ms
             );
             let _ = write_fixed(&mut l, c.latitude_deg as f64, 5);
             let _ = l.push_str(" tilt_limit ");

@@ -3,6 +3,7 @@
 
 use nf_instrument::run::{Fault, RunConfig};
 use nf_model::angle::wrap_180;
+use nf_model::order::Order;
 use nf_twin::{Recorder, TwinConfig, simulate, virtual_now_us};
 use std::process::ExitCode;
 
@@ -27,7 +28,7 @@ impl log::Log for VirtualTimeLogger {
     fn flush(&self) {}
 }
 
-const USAGE: &str = "usage: north-finder [--seed N] [--positions N] [--dwell-ms MS] [--psi DEG] [--lat DEG] [--tilt DEG] [--out FILE] [--quiet]";
+const USAGE: &str = "usage: north-finder [--seed N] [--positions N] [--order NAME|LIST] [--dwell-ms MS] [--psi DEG] [--lat DEG] [--tilt DEG] [--out FILE] [--quiet]";
 
 fn parse<T: std::str::FromStr>(flag: &str, v: Option<String>) -> Result<T, String> {
     let v = v.ok_or_else(|| format!("{flag} needs a value\n{USAGE}"))?;
@@ -45,6 +46,10 @@ pub fn main() -> ExitCode {
         let r = match a.as_str() {
             "--seed" => parse(&a, args.next()).map(|v| twin.seed = v),
             "--positions" => parse(&a, args.next()).map(|v| cfg.positions = v),
+            "--order" => parse::<String>(&a, args.next()).and_then(|v| {
+                cfg.order = Order::parse(&v).map_err(|e| format!("--order: {e}\n{USAGE}"))?;
+                Ok(())
+            }),
             "--dwell-ms" => parse(&a, args.next()).map(|v| cfg.dwell_ms = v),
             "--psi" => parse(&a, args.next()).map(|v| twin.instrument.psi_deg = v),
             "--lat" => parse(&a, args.next()).map(|v: f64| {

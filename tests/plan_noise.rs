@@ -9,6 +9,7 @@ use nf::schedule::{Schedule, Timing};
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::angle::wrap_180;
 use nf_model::noise::NoiseModel;
+use nf_model::order::Order;
 use nf_twin::{Recorder, Rng, TwinConfig, simulate};
 
 fn run_config(n: u16, dwell_ms: u32) -> RunConfig {
@@ -22,26 +23,45 @@ fn run_config(n: u16, dwell_ms: u32) -> RunConfig {
 }
 
 #[test]
-fn the_schedule_has_the_twins_times() {
-    let (n, dwell_ms) = (24u16, 1000);
-    let mut rec = Recorder::default();
-    let (report, _) = simulate(&TwinConfig::default(), &run_config(n, dwell_ms), &mut rec);
-    assert_eq!(report.result, Ok(()));
-    let r = Recording::parse(&rec.text()).unwrap();
-    let tm = Timing {
-        dwell_s: dwell_ms as f64 / 1000.0,
-        ..Timing::default()
+fn the_schedule_has_the_twins_times_in_every_order_and_motor() {
+    let (n, dwell_ms) = (24u16, 500);
+    let fast = nf_instrument::stepper::Config {
+        max_sps: 40_000.0,
+        accel_sps2: 400_000.0,
+        ..Default::default()
     };
-    let order: Vec<usize> = (0..n as usize).collect();
-    let s = Schedule::new(&order, n as usize, n as usize / 2, &tm);
-    for (row, t) in r.rows.iter().zip(&s.t_mid_s) {
-        // Within a few sample periods and encoder reads.
-        assert!(
-            (row.t_s - t).abs() < 0.02,
-            "position {}: twin {} schedule {t}",
-            row.index,
-            row.t_s
-        );
+    for motor in [nf_instrument::stepper::Config::default(), fast] {
+        for order in nf::plan_noise::named_orders() {
+            let twin = TwinConfig {
+                motor,
+                ..TwinConfig::default()
+            };
+            let mut rec = Recorder::default();
+            let run = RunConfig {
+                order,
+                ..run_config(n, dwell_ms)
+            };
+            let (report, _) = simulate(&twin, &run, &mut rec);
+            assert_eq!(report.result, Ok(()));
+            let r = Recording::parse(&rec.text()).unwrap();
+            let tm = Timing {
+                motor,
+                dwell_s: dwell_ms as f64 / 1000.0,
+                ..Timing::default()
+            };
+            let s = Schedule::new(&order, n as usize, n as usize / 2, &tm);
+            assert_eq!(r.rows.len(), s.t_mid_s.len());
+            for ((row, t), g) in r.rows.iter().zip(&s.t_mid_s).zip(&s.gamma_deg) {
+                // Within a few sample periods and encoder reads.
+                let at = format!("{} order, visit {}", order.name(), row.index);
+                assert!((row.t_s - t).abs() < 0.02, "{at}: twin {} schedule {t}", row.t_s);
+                assert!(
+                    wrap_180(row.encoder_deg - g).abs() < 0.05,
+                    "{at}: {} vs {g}",
+                    row.encoder_deg
+                );
+            }
+        }
     }
 }
 
@@ -56,8 +76,7 @@ fn the_stated_sigma_matches_twin_runs_under_flicker() {
         dwell_s: 1.0,
         ..Timing::default()
     };
-    let order: Vec<usize> = (0..n as usize).collect();
-    let s = Schedule::new(&order, n as usize, n as usize / 2, &tm);
+    let s = Schedule::new(&Order::Sequential, n as usize, n as usize / 2, &tm);
     let b = Budget {
         latitude_deg: 43.8,
         encoder_deg: 0.0,

@@ -254,7 +254,7 @@ fn settings_that_cannot_make_a_run_are_refused_before_anything_moves() {
         assert_eq!(report.result.unwrap_err().fault, Fault::BadConfig);
         assert!(rec.lines.is_empty());
     }
-    twin.steps_per_rev = 0;
+    twin.motor.steps_per_rev = 0;
     let (report, _) = go(&twin, &run);
     assert_eq!(report.result.unwrap_err().fault, Fault::BadConfig);
 }

@@ -1,9 +1,14 @@
 //! The host link: line commands in, recording lines and replies out.
 //!
 //! Commands (case-insensitive, one per line):
-//! `SET <key> <value>` with key `n`, `dwell_ms`, `settle_ms`, `lat`, `tilt_limit` (deg) or
-//! `tilt_policy` (`refuse` | `warn`); `START`; `ABORT`; `STATUS`; `CONFIG`.
+//! `SET <key> <value>` with key `n`, `dwell_ms`, `settle_ms`, `lat`, `tilt_limit` (deg),
+//! `tilt_policy` (`refuse` | `warn`) or `order` (a name of [`nf_model::order::NAMES`] or a
+//! comma-separated list of position numbers; `SET order+ <list>` continues a long list);
+//! `START`; `ABORT`; `STATUS`; `CONFIG`.
 //! Replies: `OK`, `ERR <what>`, and the lines of the recording while a run goes.
+
+use crate::run::{RunConfig, TiltPolicy};
+use nf_model::order::{Order, OrderError, VisitList};
 
 /// A setting the host can change.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -15,8 +20,13 @@ pub enum Setting {
     LatitudeDeg(f32),
     TiltLimitDeg(f32),
     TiltRefuse(bool),
+    Order(Order),
+    /// More entries of a listed order.
+    OrderMore(VisitList),
 }
 
+// A listed order travels inline (no allocator); the link holds one command at a time.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Command {
@@ -37,6 +47,9 @@ pub enum LinkError {
     MissingValue,
     BadValue,
     OutOfRange,
+    Order(OrderError),
+    /// `SET order+` when the order is not a list.
+    NoListToExtend,
 }
 
 impl LinkError {
@@ -44,12 +57,45 @@ impl LinkError {
         match self {
             LinkError::Empty => "empty line",
             LinkError::UnknownCommand => "unknown command (SET, START, ABORT, STATUS, CONFIG)",
-            LinkError::UnknownKey => "unknown key (n, dwell_ms, settle_ms, lat, tilt_limit, tilt_policy)",
+            LinkError::UnknownKey => "unknown key (n, dwell_ms, settle_ms, lat, tilt_limit, tilt_policy, order)",
             LinkError::MissingValue => "SET needs a key and a value",
             LinkError::BadValue => "value is not a number of the right kind",
             LinkError::OutOfRange => "value out of range",
+            LinkError::Order(_) => "order: not a named order or a valid list of positions",
+            LinkError::NoListToExtend => "SET order+ continues a listed order; set one first",
         }
     }
+}
+
+impl core::fmt::Display for LinkError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            LinkError::Order(e) => write!(f, "order: {e}"),
+            e => f.write_str(e.message()),
+        }
+    }
+}
+
+/// Applies a setting to the run's configuration.
+pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
+    match s {
+        Setting::Positions(n) => cfg.positions = n,
+        Setting::DwellMs(v) => cfg.dwell_ms = v,
+        Setting::SettleMs(v) => cfg.settle_ms = v,
+        Setting::LatitudeDeg(v) => cfg.latitude_deg = v,
+        Setting::TiltLimitDeg(v) => cfg.tilt_limit_deg = v,
+        Setting::TiltRefuse(r) => cfg.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
+        Setting::Order(o) => cfg.order = o,
+        Setting::OrderMore(more) => match &mut cfg.order {
+            Order::List(l) => {
+                for &p in more.as_slice() {
+                    l.push(p).map_err(LinkError::Order)?;
+                }
+            }
+            _ => return Err(LinkError::NoListToExtend),
+        },
+    }
+    Ok(())
 }
 
 fn num<T: core::str::FromStr>(v: &str) -> Result<T, LinkError> {
@@ -88,6 +134,12 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
                 v if v.eq_ignore_ascii_case("warn") => Setting::TiltRefuse(false),
                 _ => return Err(LinkError::BadValue),
             }
+        } else if k("order") {
+            Setting::Order(Order::parse(val).map_err(LinkError::Order)?)
+        } else if k("order+") {
+            let mut more = VisitList::EMPTY;
+            more.extend(val).map_err(LinkError::Order)?;
+            Setting::OrderMore(more)
         } else {
             return Err(LinkError::UnknownKey);
         };
@@ -138,5 +190,27 @@ mod tests {
         assert_eq!(parse("SET tilt_policy maybe"), Err(LinkError::BadValue));
         assert_eq!(parse("START now"), Err(LinkError::BadValue));
         assert!(LinkError::OutOfRange.message().contains("range"));
+        assert_eq!(parse("SET order zigzag"), Err(LinkError::Order(OrderError::Unknown)));
+        assert_eq!(
+            parse("SET order 0,1,two"),
+            Err(LinkError::Order(OrderError::BadEntry { at: 2 }))
+        );
+    }
+
+    #[test]
+    fn orders_are_set_by_name_or_by_a_list_over_several_lines() {
+        let mut cfg = RunConfig::DEFAULT;
+        let set = |cfg: &mut RunConfig, line: &str| match parse(line) {
+            Ok(Command::Set(s)) => apply(cfg, s),
+            other => panic!("{line}: {other:?}"),
+        };
+        set(&mut cfg, "SET order opposite-pairs").unwrap();
+        assert_eq!(cfg.order, Order::OppositePairs);
+        assert_eq!(set(&mut cfg, "SET order+ 4,5"), Err(LinkError::NoListToExtend));
+        set(&mut cfg, "SET n 6").unwrap();
+        set(&mut cfg, "SET order 0,3,4").unwrap();
+        set(&mut cfg, "set ORDER+ 1,2,5").unwrap();
+        assert_eq!(cfg.order.positions(6).collect::<std::vec::Vec<_>>(), [0, 3, 4, 1, 2, 5]);
+        assert_eq!(cfg.order.check(6), Ok(()));
     }
 }

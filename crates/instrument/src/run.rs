@@ -16,6 +16,7 @@ use embedded_io_async::{Read, Write};
 use nf_model::dwell::{Calibration, DwellAccumulator};
 use nf_model::fit::{AzimuthFit, FitConfig, FitError, FitResult, Obs};
 use nf_model::level::{TiltReading, fit_tilt};
+use nf_model::order::{Order, OrderError};
 
 /// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
 pub trait GyroSource {
@@ -62,6 +63,8 @@ pub enum TiltPolicy {
 pub struct RunConfig {
     /// Number of equal positions over the turn.
     pub positions: u16,
+    /// The order the positions are visited in.
+    pub order: Order,
     pub dwell_ms: u32,
     pub settle_ms: u32,
     pub sample_rate_hz: u32,
@@ -88,6 +91,7 @@ impl RunConfig {
     /// The paper's run: 72 positions of 2 s at 43.8 deg, levelled to 0.05 deg.
     pub const DEFAULT: RunConfig = RunConfig {
         positions: 72,
+        order: Order::Sequential,
         dwell_ms: 2000,
         settle_ms: 300,
         sample_rate_hz: 1000,
@@ -106,7 +110,7 @@ impl RunConfig {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Stage {
     Levelling,
-    /// Moving to, settling at or dwelling at position `n` (visiting order, from 0).
+    /// Moving to, settling at or dwelling at visit `n` (visiting order, from 0).
     Position(u16),
     Fitting,
 }
@@ -117,6 +121,8 @@ pub enum Stage {
 pub enum Fault {
     /// The settings cannot make a run (no positions, no samples in a dwell).
     BadConfig,
+    /// The visiting order cannot visit the positions.
+    Order(OrderError),
     /// The motor was driven but the encoder did not follow.
     Stall {
         commanded_steps: i32,
@@ -183,7 +189,7 @@ pub struct Levelling {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RunReport {
     pub result: Result<(), RunError>,
-    /// Positions measured and emitted.
+    /// Dwells measured and emitted.
     pub positions: u16,
     pub levelling: Option<Levelling>,
     /// The fit of the positions measured (all of them when the run finished).
@@ -336,7 +342,7 @@ where
 
     /// Dwells at the current position; `target` is the commanded angle in counts.
     async fn dwell(&mut self, index: u16, target: i64, t0: u64) -> Result<Record, RunError> {
-        let cfg = *self.cfg;
+        let cfg = self.cfg;
         let expected = (cfg.dwell_ms as u64 * cfg.sample_rate_hz as u64 / 1000) as u32;
         let period_us = 1_000_000 / cfg.sample_rate_hz.max(1) as u64;
         let mut acc = DwellAccumulator::new(expected);
@@ -397,6 +403,7 @@ where
             record::meta_fixed("dwell_s", c.dwell_ms as f64 / 1000.0, 3),
             record::meta("sample_rate_hz", c.sample_rate_hz),
             record::meta("positions", c.positions),
+            record::meta("order", c.order.name()),
             record::meta("firmware", concat!("nf-instrument ", env!("CARGO_PKG_VERSION"))),
         ] {
             self.sink.line(&l).await;
@@ -465,18 +472,29 @@ where
         });
         return report;
     }
+    if let Err(e) = cfg.order.check(cfg.positions) {
+        report.result = Err(RunError {
+            stage: Stage::Levelling,
+            fault: Fault::Order(e),
+        });
+        return report;
+    }
     info!(
-        "run: {} positions, dwell {} ms, latitude {} deg",
-        cfg.positions, cfg.dwell_ms, cfg.latitude_deg
+        "run: {} positions, {} order, dwell {} ms, latitude {} deg",
+        cfg.positions,
+        cfg.order.name(),
+        cfg.dwell_ms,
+        cfg.latitude_deg
     );
     report.result = async {
         report.levelling = Some(ctx.levelling().await?);
         ctx.header().await;
         let t0 = ctx.hw.clock.now_us();
-        for k in 0..cfg.positions {
+        for k in 0..cfg.order.visits(cfg.positions) {
             ctx.stage = Stage::Position(k);
             ctx.check_abort()?;
-            let target = (k as i64 * per_turn + cfg.positions as i64 / 2) / cfg.positions as i64;
+            let p = cfg.order.position(cfg.positions, k) as i64;
+            let target = (p * per_turn + cfg.positions as i64 / 2) / cfg.positions as i64;
             ctx.move_to(target).await?;
             ctx.hw.clock.delay_us(cfg.settle_ms as u64 * 1000).await;
             let rec = ctx.dwell(k, target, t0).await?;

@@ -7,6 +7,7 @@ use crate::gls::{self, Cov};
 use crate::linfit;
 use crate::schedule::{Schedule, Timing};
 use nf_model::noise::NoiseModel;
+use nf_model::order::Order;
 use nf_model::uncertainty::{amplitude_dph, encoder_arcsec, tilt_arcsec};
 
 /// What besides the gyro goes into the budget.
@@ -61,12 +62,6 @@ pub struct Candidate {
     pub sigma_arcsec: f64,
 }
 
-/// A visiting order by name: the position numbers of `n` equal steps in visiting order.
-pub struct OrderKind {
-    pub name: &'static str,
-    pub positions: fn(usize) -> Option<Vec<usize>>,
-}
-
 /// The search space.
 #[derive(Debug, Clone)]
 pub struct Space {
@@ -110,7 +105,7 @@ pub fn search(
     model: &NoiseModel,
     budget: &Budget,
     timing: &Timing,
-    orders: &[OrderKind],
+    orders: &[Order],
     space: &Space,
     target_arcsec: f64,
     levelling_s: f64,
@@ -124,7 +119,7 @@ pub fn search(
     if tilt_arcsec(budget.tilt_deg, budget.latitude_deg) >= target_arcsec {
         return plan;
     }
-    for kind in orders {
+    for order in orders {
         let mut best: Option<Candidate> = None;
         for &dwell in &space.dwells_s {
             let tm = Timing {
@@ -133,8 +128,10 @@ pub fn search(
             };
             let mut best_here: Option<f64> = None;
             for &n in &space.positions {
-                let Some(order) = (kind.positions)(n) else { continue };
-                let s = Schedule::new(&order, n, n / 2, &tm);
+                if order.check(n as u16).is_err() {
+                    continue;
+                }
+                let s = Schedule::new(order, n, n / 2, &tm);
                 let time = levelling_s + s.duration_s;
                 // Longer than allowed, or than a run already found: more positions only add time.
                 let bound = [best.as_ref(), plan.fastest.as_ref()]
@@ -148,7 +145,7 @@ pub fn search(
                     continue;
                 };
                 let c = Candidate {
-                    order: kind.name,
+                    order: order.name(),
                     n,
                     dwell_s: dwell,
                     time_s: time,
@@ -185,26 +182,14 @@ pub fn search(
     plan
 }
 
-/// The named visiting orders; the search tries the ones that resist drift and flicker first, so
-/// that their runs bound the others'.
-pub fn named_orders() -> Vec<OrderKind> {
-    vec![
-        OrderKind {
-            name: "opposite-pairs",
-            positions: |n| (n % 2 == 0).then(|| (0..n / 2).flat_map(|k| [k, k + n / 2]).collect()),
-        },
-        OrderKind {
-            name: "forward-back",
-            positions: |n| Some((0..n).step_by(2).chain((1..n).step_by(2).rev()).collect()),
-        },
-        OrderKind {
-            name: "interleaved",
-            positions: |n| Some((0..n).step_by(2).chain((1..n).step_by(2)).collect()),
-        },
-        OrderKind {
-            name: "sequential",
-            positions: |n| Some((0..n).collect()),
-        },
+/// The named visiting orders, those that resist drift and flicker first, so that their runs
+/// bound the others' in the search.
+pub fn named_orders() -> [Order; 4] {
+    [
+        Order::OppositePairs,
+        Order::ForwardBack,
+        Order::Interleaved,
+        Order::Sequential,
     ]
 }
 
@@ -227,11 +212,13 @@ mod tests {
     fn white_noise_gives_eq_24_whatever_the_order() {
         let (m, b) = paper();
         let tm = Timing::default();
-        for kind in named_orders() {
-            let s = Schedule::new(&(kind.positions)(72).unwrap(), 72, 36, &tm);
+        for order in named_orders() {
+            let s = Schedule::new(&order, 72, 36, &tm);
             let g = gyro_arcsec(&m, &s, b.latitude_deg).unwrap();
             let eq24 = nf_model::paper::eq24_arcsec(72, 0.005, 43.8);
-            assert!((g / eq24 - 1.0).abs() < 1e-6, "{}: {g} vs {eq24}", kind.name);
+            // Forward-back visits every position twice.
+            let eq24 = eq24 / (order.visits(72) as f64 / 72.0).sqrt();
+            assert!((g / eq24 - 1.0).abs() < 1e-6, "{}: {g} vs {eq24}", order.name());
         }
     }
 

@@ -3,6 +3,7 @@
 //! dwell. The planner needs it to know the time structure the gyro's noise acts on.
 
 use nf_instrument::stepper;
+use nf_model::order::Order;
 
 /// What a run's time is made of.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,7 +21,7 @@ impl Default for Timing {
             motor: stepper::Config::default(),
             settle_s: 0.3,
             dwell_s: 2.0,
-            per_position_s: 0.005,
+            per_position_s: 0.0045,
         }
     }
 }
@@ -52,15 +53,16 @@ pub struct Schedule {
 }
 
 impl Schedule {
-    /// The schedule of visiting `order` (position numbers of `n` equal steps), starting at
-    /// position `order[0]`'s neighbour `start` (the levelling leaves the shaft at half a turn).
-    pub fn new(order: &[usize], n: usize, start: usize, timing: &Timing) -> Schedule {
+    /// The schedule of visiting `n` equal steps in `order` (checked for `n`), starting at
+    /// position `start` (the levelling leaves the shaft at half a turn).
+    pub fn new(order: &Order, n: usize, start: usize, timing: &Timing) -> Schedule {
         let mut t = 0.0;
         let mut at = start;
-        let (mut gamma_deg, mut t_mid_s) = (Vec::with_capacity(order.len()), Vec::with_capacity(order.len()));
+        let visits = order.visits(n as u16) as usize;
+        let (mut gamma_deg, mut t_mid_s) = (Vec::with_capacity(visits), Vec::with_capacity(visits));
         // A run has few distinct move lengths: time each once.
         let mut moves: Vec<(u32, f64)> = Vec::new();
-        for &k in order {
+        for k in order.positions(n as u16).map(usize::from) {
             let steps = timing.steps_between(at, k, n);
             let m = match moves.iter().find(|m| m.0 == steps) {
                 Some(m) => m.1,
@@ -97,7 +99,7 @@ mod tests {
         assert!(half > 3.0 * small, "{half} vs {small}");
         // Across zero the short way too (to a step of rounding).
         assert!(tm.steps_between(71, 1, 72).abs_diff(tm.steps_between(0, 2, 72)) <= 1);
-        let s = Schedule::new(&[0, 1, 2], 72, 0, &tm);
+        let s = Schedule::new(&Order::parse("0,1,2").unwrap(), 72, 0, &tm);
         assert_eq!(s.gamma_deg, vec![0.0, 5.0, 10.0]);
         let cycle = s.t_mid_s[2] - s.t_mid_s[1];
         let step12 = tm.move_s(tm.steps_between(1, 2, 72));

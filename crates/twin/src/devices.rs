@@ -8,7 +8,7 @@ use nf_instrument::clock::Clock;
 use nf_instrument::encoder::{self, BissEncoder};
 use nf_instrument::inclinometer::{self, Inclinometer};
 use nf_instrument::run::{Instrument, RunConfig, Thermometer};
-use nf_instrument::stepper::{self, StepDir};
+use nf_instrument::stepper::StepDir;
 use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::rc::Rc;
@@ -250,15 +250,11 @@ pub fn instrument(cfg: &TwinConfig, run: &RunConfig) -> (TwinInstrument, Shared)
     twin.sample_rate_hz = run.sample_rate_hz;
     let world = Rc::new(RefCell::new(World::new(twin)));
     let clock = TwinClock(world.clone());
-    let motor_cfg = stepper::Config {
-        steps_per_rev: cfg.steps_per_rev,
-        ..Default::default()
-    };
     let mut adc = Ads1256::new(AdcSpi(world.clone()), Drdy(world.clone()));
     // The twin's bus cannot fail; a dead ADC shows as missing samples later.
     let _ = embassy_futures::block_on(adc.start(&Default::default()));
     let hw = Instrument {
-        motor: StepDir::new(StepPin(world.clone()), DirPin(world.clone()), clock.clone(), motor_cfg),
+        motor: StepDir::new(StepPin(world.clone()), DirPin(world.clone()), clock.clone(), cfg.motor),
         encoder: BissEncoder::new(
             EncoderBus(world.clone()),
             encoder::Config {

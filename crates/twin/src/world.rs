@@ -2,6 +2,7 @@
 
 use crate::noise::{GyroNoise, Quantiser};
 use nf_instrument::adc::{CODE_MAX, CODE_MIN};
+use nf_instrument::stepper;
 use nf_model::dwell::Calibration;
 use nf_model::exact::Instrument;
 use nf_model::noise::NoiseModel;
@@ -81,8 +82,9 @@ pub struct TwinConfig {
     /// Inclinometer noise (deg) and mounting offsets of X and Y (deg).
     pub incl_noise_deg: f64,
     pub incl_offset_deg: (f64, f64),
-    /// Motor steps per shaft turn and the shaft's start angle.
-    pub steps_per_rev: u32,
+    /// The motor and its driver's profile (steps per shaft turn, speed, acceleration): a move's
+    /// time depends on the angle moved. And the shaft's start angle.
+    pub motor: stepper::Config,
     pub start_deg: f64,
     pub calibration: Calibration,
     pub sample_rate_hz: u32,
@@ -123,7 +125,7 @@ impl Default for TwinConfig {
             encoder_error: [(1, 0.0, 0.0), (2, 0.0, 0.0)],
             incl_noise_deg: 0.0005,
             incl_offset_deg: (0.01, -0.02),
-            steps_per_rev: 32_000,
+            motor: stepper::Config::default(),
             start_deg: 17.3,
             calibration: Calibration::default(),
             sample_rate_hz: 1000,
@@ -188,7 +190,7 @@ impl World {
         }
         let stalled = self.cfg.faults.stall_from_move.is_some_and(|m| self.moves > m);
         if !stalled {
-            let d = 360.0 / self.cfg.steps_per_rev as f64;
+            let d = 360.0 / self.cfg.motor.steps_per_rev as f64;
             self.shaft_deg = (self.shaft_deg + if self.dir_ccw { d } else { -d }).rem_euclid(360.0);
         }
         self.last_move_end_s = self.t_s();

@@ -2,12 +2,13 @@
 
 use super::noise_args::NoiseArgs;
 use super::{Fail, positive};
-use crate::plan_noise::{self, Candidate, OrderKind, Space};
+use crate::plan_noise::{self, Candidate, Space};
 use crate::plot::{Panel, Series, Style};
 use crate::schedule::{Schedule, Timing};
 use crate::{plan, plot};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
+use nf_model::order::Order;
 use nf_model::uncertainty::{Budget, allocate, tilt_arcsec};
 use serde_json::{Value, json};
 
@@ -123,17 +124,13 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         dwell_s: a.dwell,
         ..Timing::default()
     };
-    let orders = plan_noise::named_orders();
-    let names: Vec<&str> = orders.iter().map(|o| o.name).collect();
-    let kind: &OrderKind = orders
-        .iter()
-        .find(|o| o.name == a.order)
-        .ok_or_else(|| Fail(format!("--order: '{}' is not one of {}", a.order, names.join(", ")), 2))?;
+    let order = Order::parse(&a.order)
+        .and_then(|o| o.check(a.n as u16).map(|()| o))
+        .map_err(|e| Fail(format!("--order: {e}"), 2))?;
     let n = a.n as usize;
-    let positions = (kind.positions)(n).ok_or_else(|| Fail(format!("the {} order needs an even n", kind.name), 2))?;
     // Levelling: two half turns, settling and an inclinometer reading at each.
     let levelling_s = 2.0 * (timing.move_s(a.steps_per_rev / 2) + a.settle + timing.per_position_s);
-    let schedule = Schedule::new(&positions, n, n / 2, &timing);
+    let schedule = Schedule::new(&order, n, n / 2, &timing);
     let time_s = levelling_s + schedule.duration_s;
     let budget = plan_noise::Budget {
         latitude_deg: a.lat,
@@ -163,7 +160,15 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
             max_time_s: a.max_time,
             ..Space::default()
         };
-        let p = plan_noise::search(&model, &budget, &timing, &orders, &space, t, levelling_s);
+        let p = plan_noise::search(
+            &model,
+            &budget,
+            &timing,
+            &plan_noise::named_orders(),
+            &space,
+            t,
+            levelling_s,
+        );
         bar.finish_and_clear();
         p
     });
@@ -181,9 +186,11 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         let curve = |f: &dyn Fn(u32) -> f64| ns.iter().map(|&n| (n as f64, f(n))).collect::<Vec<_>>();
         let under_noise = ns
             .iter()
+            // A listed order is a run of its own n only.
+            .filter(|&&m| !matches!(order, Order::List(_)) || m == a.n)
             .filter_map(|&m| {
-                let pos = (kind.positions)(m as usize)?;
-                let sc = Schedule::new(&pos, m as usize, m as usize / 2, &timing);
+                order.check(m as u16).ok()?;
+                let sc = Schedule::new(&order, m as usize, m as usize / 2, &timing);
                 Some((m as f64, plan_noise::total_arcsec(&model, &sc, &budget)?))
             })
             .collect();
@@ -203,7 +210,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                     style: Style::Line,
                 },
                 Series {
-                    name: format!("noise model, {} order (GLS)", kind.name),
+                    name: format!("noise model, {} order (GLS)", order.name()),
                     points: under_noise,
                     style: Style::Line,
                 },
@@ -215,7 +222,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     let bj = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
     if a.json {
         let j = json!({
-            "n": a.n, "dwell_s": a.dwell, "order": kind.name, "time_s": time_s,
+            "n": a.n, "dwell_s": a.dwell, "order": order.name(), "time_s": time_s,
             "gyro_dph_per_position": s.gyro_dph,
             "noise_model": {"arw_deg_rth": model.arw_deg_rth, "bias_instability_dph": model.bias_instability_dph, "rrw_dph_rth": model.rrw_dph_rth, "gm_sigma_dph": model.gm_sigma_dph, "gm_tau_s": model.gm_tau_s, "quantization_arcsec": model.quantization_arcsec},
             "budget_noise_model": {"gyro_arcsec": noise_gyro, "total_arcsec": noise_total},
@@ -233,7 +240,11 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     }
     println!(
         "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position), {:.0} s to north with levelling and moves",
-        a.n, a.dwell, kind.name, s.gyro_dph, time_s
+        a.n,
+        a.dwell,
+        order.name(),
+        s.gyro_dph,
+        time_s
     );
     println!(
         "{:<22} {:>9} {:>9} {:>9} {:>9}",

@@ -3,7 +3,9 @@
 use super::noise_args::NoiseArgs;
 use super::{Fail, positive, write_out};
 use nf_instrument::run::{RunConfig, TiltPolicy};
+use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
+use nf_model::order::Order;
 use nf_twin::{Recorder, TwinConfig, simulate};
 use serde_json::json;
 
@@ -18,6 +20,16 @@ pub struct SimArgs {
     /// Number of positions.
     #[arg(long, default_value_t = 72)]
     n: u16,
+    /// Visiting order: sequential, forward-back, opposite-pairs, interleaved, or a
+    /// comma-separated list of position numbers.
+    #[arg(long, default_value = "sequential")]
+    order: String,
+    /// Stepper cruise speed, steps/s.
+    #[arg(long, default_value_t = stepper::Config::default().max_sps)]
+    max_sps: f32,
+    /// Stepper acceleration, steps/s^2.
+    #[arg(long, default_value_t = stepper::Config::default().accel_sps2)]
+    accel: f32,
     /// Dwell per position, s.
     #[arg(long, default_value_t = 2.0)]
     dwell: f64,
@@ -84,7 +96,22 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             2,
         ));
     }
+    let order = Order::parse(&a.order)
+        .and_then(|o| o.check(a.n).map(|()| o))
+        .map_err(|e| Fail(format!("--order: {e}"), 2))?;
+    let motor_ok = a.max_sps.is_finite() && a.max_sps >= stepper::Config::default().start_sps;
+    if !(motor_ok && a.accel > 0.0 && a.accel.is_finite()) {
+        return Err(Fail(
+            format!(
+                "need --max-sps >= the start speed {} steps/s and a finite --accel > 0",
+                stepper::Config::default().start_sps
+            ),
+            2,
+        ));
+    }
     let mut twin = TwinConfig::default();
+    twin.motor.max_sps = a.max_sps;
+    twin.motor.accel_sps2 = a.accel;
     twin.instrument.latitude_deg = a.lat;
     twin.instrument.psi_deg = a.psi;
     twin.instrument.tilt_deg = a.tilt;
@@ -102,6 +129,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     twin.seed = a.seed;
     let run = RunConfig {
         positions: a.n,
+        order,
         dwell_ms: (a.dwell * 1000.0).round() as u32,
         settle_ms: (a.settle * 1000.0).round() as u32,
         latitude_deg: a.lat as f32,

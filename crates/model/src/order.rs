@@ -1,0 +1,281 @@
+//! The order in which a run visits its `n` equal positions.
+//!
+//! A slow bias wander projects onto the signal's first harmonic when the positions are visited
+//! in one sweep: a linear drift `k` over a run of length `T` biases the plain fit by about
+//! `k T / (pi H)`. Orders that put the first harmonic at high frequency in time cancel it:
+//! forward-then-back exactly (each position twice, symmetric in time), opposite pairs that
+//! alternate their direction almost (and half their moves are small steps).
+
+/// Most visits a listed order holds (it lives in the firmware's configuration, in RAM).
+pub const MAX_VISITS: usize = 256;
+
+/// A visiting order over `n` equal positions `k * 360 / n`.
+// The list lives inline so that a run's configuration stays `Copy` without an allocator.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Order {
+    /// `0, 1, ..., n-1`: one sweep.
+    Sequential,
+    /// `0, ..., n-1, n-1, ..., 0`: every position twice, `2n` dwells.
+    ForwardBack,
+    /// `0, n/2, n/2+1, 1, 2, n/2+2, ...`: each position and its opposite, the pair's direction
+    /// alternating (needs an even `n`).
+    OppositePairs,
+    /// The even positions, then the odd ones.
+    Interleaved,
+    /// Any sequence of position numbers below `n` (repeats allowed).
+    List(VisitList),
+}
+
+/// A listed order: position numbers in visiting order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VisitList {
+    len: u16,
+    idx: [u16; MAX_VISITS],
+}
+
+/// Why an order cannot be used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum OrderError {
+    /// Not a named order and not a comma-separated list of position numbers.
+    Unknown,
+    /// A list entry is not a number.
+    BadEntry { at: u16 },
+    /// More than [`MAX_VISITS`] entries.
+    TooLong,
+    /// A listed position is not below `n`.
+    OutOfRange { at: u16, position: u16, n: u16 },
+    /// A listed order with no entries.
+    Empty,
+    /// Opposite pairs need an even number of positions.
+    OddPositions,
+}
+
+impl core::fmt::Display for OrderError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            OrderError::Unknown => {
+                f.write_str("not one of")?;
+                for n in NAMES {
+                    write!(f, " {n}")?;
+                }
+                f.write_str(" and not a list of position numbers")
+            }
+            OrderError::BadEntry { at } => write!(f, "entry {at} of the list is not a position number"),
+            OrderError::TooLong => write!(f, "a listed order holds at most {MAX_VISITS} visits"),
+            OrderError::OutOfRange { at, position, n } => {
+                write!(f, "entry {at} of the list, position {position}, is not below n = {n}")
+            }
+            OrderError::Empty => write!(f, "the listed order is empty"),
+            OrderError::OddPositions => write!(f, "opposite pairs need an even number of positions"),
+        }
+    }
+}
+
+/// The names [`Order::parse`] takes, in the order of [`Order::NAMED`].
+pub const NAMES: [&str; 4] = ["sequential", "forward-back", "opposite-pairs", "interleaved"];
+
+impl Order {
+    /// The named orders.
+    pub const NAMED: [Order; 4] = [
+        Order::Sequential,
+        Order::ForwardBack,
+        Order::OppositePairs,
+        Order::Interleaved,
+    ];
+
+    /// A name of [`NAMES`] (case-insensitive) or a comma-separated list such as `0,36,37,1`.
+    pub fn parse(s: &str) -> Result<Order, OrderError> {
+        let s = s.trim();
+        if let Some(i) = NAMES.iter().position(|n| n.eq_ignore_ascii_case(s)) {
+            return Ok(Order::NAMED[i]);
+        }
+        if !s.starts_with(|c: char| c.is_ascii_digit()) {
+            return Err(OrderError::Unknown);
+        }
+        let mut list = VisitList::EMPTY;
+        list.extend(s)?;
+        Ok(Order::List(list))
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Order::Sequential => NAMES[0],
+            Order::ForwardBack => NAMES[1],
+            Order::OppositePairs => NAMES[2],
+            Order::Interleaved => NAMES[3],
+            Order::List(_) => "list",
+        }
+    }
+
+    /// Whether the order can visit `n` positions.
+    pub fn check(&self, n: u16) -> Result<(), OrderError> {
+        match self {
+            Order::OppositePairs if !n.is_multiple_of(2) => Err(OrderError::OddPositions),
+            Order::List(l) if l.len == 0 => Err(OrderError::Empty),
+            Order::List(l) => match l.as_slice().iter().position(|&p| p >= n) {
+                Some(at) => Err(OrderError::OutOfRange {
+                    at: at as u16,
+                    position: l.idx[at],
+                    n,
+                }),
+                None => Ok(()),
+            },
+            _ => Ok(()),
+        }
+    }
+
+    /// Dwells of a run over `n` positions.
+    pub fn visits(&self, n: u16) -> u16 {
+        match self {
+            Order::ForwardBack => n.saturating_mul(2),
+            Order::List(l) => l.len,
+            _ => n,
+        }
+    }
+
+    /// The position number of visit `j` (`j < visits(n)`, and [`Order::check`] passed).
+    pub fn position(&self, n: u16, j: u16) -> u16 {
+        let half = n / 2;
+        match self {
+            Order::Sequential => j,
+            Order::ForwardBack if j < n => j,
+            Order::ForwardBack => (2 * n - 1).saturating_sub(j),
+            Order::OppositePairs => {
+                let (pair, second) = (j / 2, j % 2 == 1);
+                // Odd pairs start from the far side, so the motor alternates half turns and
+                // small steps and a drift's effect on the pair difference alternates in sign.
+                if second != (pair % 2 == 1) { pair + half } else { pair }
+            }
+            Order::Interleaved => {
+                let evens = n.div_ceil(2);
+                if j < evens { 2 * j } else { 2 * (j - evens) + 1 }
+            }
+            Order::List(l) => l.idx[j as usize],
+        }
+    }
+
+    /// The positions of a run over `n` positions, in visiting order.
+    pub fn positions(&self, n: u16) -> impl Iterator<Item = u16> + '_ {
+        (0..self.visits(n)).map(move |j| self.position(n, j))
+    }
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for VisitList {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(f, "{} listed visits", self.len)
+    }
+}
+
+impl VisitList {
+    pub const EMPTY: VisitList = VisitList {
+        len: 0,
+        idx: [0; MAX_VISITS],
+    };
+
+    pub fn as_slice(&self) -> &[u16] {
+        &self.idx[..self.len as usize]
+    }
+
+    /// Appends the entries of a comma-separated list (for lists longer than one line).
+    pub fn extend(&mut self, csv: &str) -> Result<(), OrderError> {
+        for word in csv.split(',') {
+            let at = self.len;
+            let p = word.trim().parse().map_err(|_| OrderError::BadEntry { at })?;
+            self.push(p)?;
+        }
+        Ok(())
+    }
+
+    pub fn push(&mut self, position: u16) -> Result<(), OrderError> {
+        let slot = self.idx.get_mut(self.len as usize).ok_or(OrderError::TooLong)?;
+        *slot = position;
+        self.len += 1;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Float;
+    use std::vec::Vec;
+
+    fn seq(o: &Order, n: u16) -> Vec<u16> {
+        o.positions(n).collect()
+    }
+
+    #[test]
+    fn named_orders_visit_what_they_say() {
+        assert_eq!(seq(&Order::Sequential, 4), [0, 1, 2, 3]);
+        assert_eq!(seq(&Order::ForwardBack, 3), [0, 1, 2, 2, 1, 0]);
+        assert_eq!(seq(&Order::OppositePairs, 8), [0, 4, 5, 1, 2, 6, 7, 3]);
+        assert_eq!(seq(&Order::Interleaved, 5), [0, 2, 4, 1, 3]);
+        assert_eq!(Order::OppositePairs.check(7), Err(OrderError::OddPositions));
+    }
+
+    #[test]
+    fn every_named_order_visits_every_position_equally_often() {
+        for o in Order::NAMED {
+            for n in (4..=720).step_by(2) {
+                let mut count = std::vec![0u16; n as usize];
+                o.positions(n).for_each(|p| count[p as usize] += 1);
+                let each = o.visits(n) / n;
+                assert!(count.iter().all(|&c| c == each), "{} at n = {n}", o.name());
+            }
+        }
+    }
+
+    /// The first-harmonic projection of a unit linear drift, relative to a sequential sweep's.
+    fn drift_coupling(o: &Order, n: u16) -> f64 {
+        let proj = |o: &Order| {
+            let (mut c, mut s) = (0.0, 0.0);
+            for (t, p) in o.positions(n).enumerate() {
+                let g = p as f64 * 2.0 * core::f64::consts::PI / n as f64;
+                c += t as f64 * Float::cos(g);
+                s += t as f64 * Float::sin(g);
+            }
+            Float::hypot(c, s) / o.visits(n) as f64
+        };
+        proj(o) / proj(&Order::Sequential)
+    }
+
+    #[test]
+    fn balanced_orders_cancel_a_linear_drift() {
+        for n in [8u16, 36, 72, 180] {
+            assert!(drift_coupling(&Order::ForwardBack, n) < 1e-9);
+            let pairs = drift_coupling(&Order::OppositePairs, n);
+            assert!(pairs < 2.0 / n as f64, "n = {n}: {pairs}");
+            let inter = drift_coupling(&Order::Interleaved, n);
+            assert!((0.4..0.6).contains(&inter), "n = {n}: {inter}");
+        }
+    }
+
+    #[test]
+    fn lists_parse_and_every_bad_list_says_where() {
+        let o = Order::parse("0, 2,1,3").unwrap();
+        assert_eq!(seq(&o, 4), [0, 2, 1, 3]);
+        assert_eq!(o.check(4), Ok(()));
+        assert_eq!(
+            o.check(3),
+            Err(OrderError::OutOfRange {
+                at: 3,
+                position: 3,
+                n: 3
+            })
+        );
+        assert_eq!(Order::parse("Opposite-Pairs"), Ok(Order::OppositePairs));
+        assert_eq!(Order::parse("spiral"), Err(OrderError::Unknown));
+        assert_eq!(Order::parse("0,1,x"), Err(OrderError::BadEntry { at: 2 }));
+        assert_eq!(Order::parse("0,,1"), Err(OrderError::BadEntry { at: 1 }));
+        let mut l = VisitList::EMPTY;
+        for _ in 0..MAX_VISITS {
+            l.push(1).unwrap();
+        }
+        assert_eq!(l.push(1), Err(OrderError::TooLong));
+        assert_eq!(Order::List(VisitList::EMPTY).check(4), Err(OrderError::Empty));
+    }
+}
