@@ -184,9 +184,10 @@ pub fn search(
 
 /// The named visiting orders, those that resist drift and flicker first, so that their runs
 /// bound the others' in the search.
-pub fn named_orders() -> [Order; 4] {
+pub fn named_orders() -> [Order; 5] {
     [
         Order::OppositePairs,
+        Order::AlternatingPairs,
         Order::ForwardBack,
         Order::Interleaved,
         Order::Sequential,
@@ -251,7 +252,7 @@ mod tests {
             positions: (8..=160).step_by(8).collect(),
             max_time_s: 1200.0,
         };
-        let plan = search(&m, &b, &tm, &orders[3..], &space, 18.0, 5.0);
+        let plan = search(&m, &b, &tm, &orders[4..], &space, 18.0, 5.0);
         let floor = plan.floor.expect("a sequential run cannot reach 18\" with this gyro");
         assert!(plan.fastest.is_none() && floor.sigma_arcsec > 25.0, "{floor:?}");
         let pairs = search(&m, &b, &tm, &orders[..1], &space, 18.0, 5.0);

@@ -5,6 +5,7 @@ use super::{Fail, positive};
 use crate::plan_noise::{self, Candidate, Space};
 use crate::plot::{Panel, Series, Style};
 use crate::schedule::{Schedule, Timing};
+use crate::twin_check::{self, RunSpec, TwinCheck};
 use crate::{plan, plot};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
@@ -58,6 +59,10 @@ pub struct PlanArgs {
     /// Longest run the search considers, s.
     #[arg(long, default_value_t = Space::default().max_time_s)]
     max_time: f64,
+    /// Twin runs checking the stated sigma of the fastest run (or of the planned run without a
+    /// target): the firmware's logic, this gyro and motor, fitted with this noise model.
+    #[arg(long, default_value_t = 0)]
+    twin_runs: u32,
     /// Monte Carlo runs checking the formula (0: none).
     #[arg(long, default_value_t = 2000)]
     mc_runs: u32,
@@ -172,6 +177,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         bar.finish_and_clear();
         p
     });
+    let twin = twin_check(&a, &model, &timing, search.as_ref().and_then(|p| p.fastest.as_ref()))?;
     let allowance = a.target.map(|t| allocate(t, a.n, a.lat));
     let paper_n = a.target.and_then(|t| plan::paper_n(&inp, t));
     let mc = (a.mc_runs > 0).then(|| {
@@ -233,6 +239,10 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
             "floor": search.as_ref().and_then(|p| p.floor.as_ref()).map(candidate_json),
             "paper_n_for_target": paper_n,
             "allowance_for_target": allowance.map(|s| json!({"gyro_dph": s.gyro_dph, "encoder_deg": s.encoder_deg, "tilt_deg": s.tilt_deg})),
+            "twin_check": twin.as_ref().map(|(c, stated, k)| json!({
+                "runs": k.runs, "order": c.order, "n": c.n, "dwell_s": c.dwell_s,
+                "stated_gyro_arcsec": stated, "rms_error_arcsec": k.rms_error_arcsec,
+                "rms_error_over_sigma": k.rms_z, "mean_time_s": k.mean_time_s})),
             "monte_carlo": mc.map(|(m, f)| json!({"runs": a.mc_runs, "sd_arcsec": m, "formula_arcsec": f})),
         });
         println!("{}", serde_json::to_string_pretty(&j).unwrap_or_default());
@@ -299,6 +309,16 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
             None => println!("target {t}\": not reachable by the paper's Eq. 31"),
         }
     }
+    if let Some((c, stated, k)) = &twin {
+        println!(
+            "twin check, {} runs of the {}: RMS error {:.2}\" against the stated gyro term {stated:.2}\" ({:+.1}%), RMS error/sigma {:.2}",
+            k.runs,
+            describe(c),
+            k.rms_error_arcsec,
+            (k.rms_error_arcsec / stated - 1.0) * 100.0,
+            k.rms_z
+        );
+    }
     if let Some((m, f)) = mc {
         println!(
             "Monte Carlo (white noise), {} runs: sd {m:.2}\" against the formula {f:.2}\" ({:+.1}%)",
@@ -307,4 +327,49 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         );
     }
     Ok(())
+}
+
+/// The twin's check of the fastest run, else of the planned run: the run, its stated gyro
+/// term and what the twin gave.
+fn twin_check(
+    a: &PlanArgs,
+    model: &NoiseModel,
+    timing: &Timing,
+    fastest: Option<&Candidate>,
+) -> Result<Option<(Candidate, f64, TwinCheck)>, Fail> {
+    if a.twin_runs == 0 {
+        return Ok(None);
+    }
+    let (order, n, dwell_s) = match fastest {
+        Some(c) => (Order::parse(c.order).map_err(|e| e.to_string())?, c.n, c.dwell_s),
+        None => (
+            Order::parse(&a.order).map_err(|e| e.to_string())?,
+            a.n as usize,
+            a.dwell,
+        ),
+    };
+    let tm = Timing { dwell_s, ..*timing };
+    let schedule = Schedule::new(&order, n, n / 2, &tm);
+    let stated = plan_noise::gyro_arcsec(model, &schedule, a.lat)
+        .ok_or_else(|| "the GLS covariance of the run is singular".to_string())?;
+    let spec = RunSpec {
+        order,
+        n: n as u16,
+        dwell_s,
+        settle_s: a.settle,
+        motor: timing.motor,
+        latitude_deg: a.lat,
+    };
+    let bar = indicatif::ProgressBar::new(a.twin_runs as u64);
+    bar.set_message("twin runs");
+    let k = twin_check::check(model, &spec, a.twin_runs, a.seed, || bar.inc(1))?;
+    bar.finish_and_clear();
+    let c = Candidate {
+        order: order.name(),
+        n,
+        dwell_s,
+        time_s: k.mean_time_s,
+        sigma_arcsec: stated,
+    };
+    Ok(Some((c, stated, k)))
 }
