@@ -128,6 +128,13 @@ fn status_line() -> Line {
             let _ = l.push_str(" sigma_arcsec ");
             let _ = write_fixed(&mut l, a.sigma_arcsec as f64, 2);
         }
+        if let Some(u) = r.under_noise {
+            let _ = l.push_str(" under_noise_sigma_arcsec ");
+            let _ = write_fixed(&mut l, u.sigma_psi_deg * 3600.0, 2);
+        }
+        if r.target_reached {
+            let _ = l.push_str(" target_reached");
+        }
         let _ = l.push_str(if r.result.is_ok() { " ok" } else { " failed" });
     }
     l
@@ -212,6 +219,19 @@ async fn handle(cmd: Command) {
             let _ = write_fixed(&mut l, c.latitude_deg as f64, 5);
             let _ = l.push_str(" tilt_limit ");
             let _ = write_fixed(&mut l, c.tilt_limit_deg as f64, 4);
+            let _ = l.push_str(" target_arcsec ");
+            let _ = write_fixed(&mut l, c.target_arcsec as f64, 2);
+            let m = c.noise;
+            for (key, v, decimals) in [
+                (" arw ", m.arw_deg_rth, 7),
+                (" bias_instability ", m.bias_instability_dph, 6),
+                (" rrw ", m.rrw_dph_rth, 6),
+                (" gm_sigma ", m.gm_sigma_dph, 6),
+                (" gm_tau ", m.gm_tau_s, 2),
+            ] {
+                let _ = l.push_str(key);
+                let _ = write_fixed(&mut l, v, decimals);
+            }
             TX.send(l).await;
         }
     }

@@ -28,7 +28,7 @@ impl log::Log for VirtualTimeLogger {
     fn flush(&self) {}
 }
 
-const USAGE: &str = "usage: north-finder [--seed N] [--positions N] [--order NAME|LIST] [--dwell-ms MS] [--psi DEG] [--lat DEG] [--tilt DEG] [--out FILE] [--quiet]";
+const USAGE: &str = "usage: north-finder [--seed N] [--positions N] [--order NAME|LIST] [--dwell-ms MS] [--target-arcsec S] [--psi DEG] [--lat DEG] [--tilt DEG] [--out FILE] [--quiet]";
 
 fn parse<T: std::str::FromStr>(flag: &str, v: Option<String>) -> Result<T, String> {
     let v = v.ok_or_else(|| format!("{flag} needs a value\n{USAGE}"))?;
@@ -50,6 +50,7 @@ pub fn main() -> ExitCode {
                 cfg.order = Order::parse(&v).map_err(|e| format!("--order: {e}\n{USAGE}"))?;
                 Ok(())
             }),
+            "--target-arcsec" => parse(&a, args.next()).map(|v| cfg.target_arcsec = v),
             "--dwell-ms" => parse(&a, args.next()).map(|v| cfg.dwell_ms = v),
             "--psi" => parse(&a, args.next()).map(|v| twin.instrument.psi_deg = v),
             "--lat" => parse(&a, args.next()).map(|v: f64| {
@@ -117,6 +118,19 @@ pub fn main() -> ExitCode {
         println!(
             "twin's true psi   {truth:.5} deg: error {err:+.2} arcsec = {:+.2} sigma",
             err / a.sigma_arcsec as f64
+        );
+    }
+    if let Some(u) = report.under_noise {
+        println!(
+            "under the noise model: psi {:.5} deg +- {:.2} arcsec after {} dwells{}",
+            u.psi_deg,
+            u.sigma_psi_deg * 3600.0,
+            u.dwells,
+            if report.target_reached {
+                " (target reached, run ended early)"
+            } else {
+                ""
+            }
         );
     }
     match report.result {

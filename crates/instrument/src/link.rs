@@ -3,7 +3,10 @@
 //! Commands (case-insensitive, one per line):
 //! `SET <key> <value>` with key `n`, `dwell_ms`, `settle_ms`, `lat`, `tilt_limit` (deg),
 //! `tilt_policy` (`refuse` | `warn`) or `order` (a name of [`nf_model::order::NAMES`] or a
-//! comma-separated list of position numbers; `SET order+ <list>` continues a long list);
+//! comma-separated list of position numbers; `SET order+ <list>` continues a long list),
+//! `target_arcsec` (end the run at that running sigma; 0: off) or a gyro noise term in IEEE
+//! Std 952 units: `arw` (deg/sqrt(h)), `bias_instability` (deg/h), `rrw` (deg/h/sqrt(h)),
+//! `gm_sigma` (deg/h), `gm_tau` (s);
 //! `START`; `ABORT`; `STATUS`; `CONFIG`.
 //! Replies: `OK`, `ERR <what>`, and the lines of the recording while a run goes.
 
@@ -23,7 +26,28 @@ pub enum Setting {
     Order(Order),
     /// More entries of a listed order.
     OrderMore(VisitList),
+    TargetArcsec(f32),
+    Noise(NoiseTerm, f64),
 }
+
+/// A term of the gyro's noise model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum NoiseTerm {
+    Arw,
+    BiasInstability,
+    Rrw,
+    GmSigma,
+    GmTau,
+}
+
+const NOISE_KEYS: [(&str, NoiseTerm); 5] = [
+    ("arw", NoiseTerm::Arw),
+    ("bias_instability", NoiseTerm::BiasInstability),
+    ("rrw", NoiseTerm::Rrw),
+    ("gm_sigma", NoiseTerm::GmSigma),
+    ("gm_tau", NoiseTerm::GmTau),
+];
 
 // A listed order travels inline (no allocator); the link holds one command at a time.
 #[allow(clippy::large_enum_variant)]
@@ -57,7 +81,9 @@ impl LinkError {
         match self {
             LinkError::Empty => "empty line",
             LinkError::UnknownCommand => "unknown command (SET, START, ABORT, STATUS, CONFIG)",
-            LinkError::UnknownKey => "unknown key (n, dwell_ms, settle_ms, lat, tilt_limit, tilt_policy, order)",
+            LinkError::UnknownKey => {
+                "unknown key (n, dwell_ms, settle_ms, lat, tilt_limit, tilt_policy, order, target_arcsec, arw, bias_instability, rrw, gm_sigma, gm_tau)"
+            }
             LinkError::MissingValue => "SET needs a key and a value",
             LinkError::BadValue => "value is not a number of the right kind",
             LinkError::OutOfRange => "value out of range",
@@ -86,6 +112,17 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
         Setting::TiltLimitDeg(v) => cfg.tilt_limit_deg = v,
         Setting::TiltRefuse(r) => cfg.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
         Setting::Order(o) => cfg.order = o,
+        Setting::TargetArcsec(v) => cfg.target_arcsec = v,
+        Setting::Noise(term, v) => {
+            let m = &mut cfg.noise;
+            *match term {
+                NoiseTerm::Arw => &mut m.arw_deg_rth,
+                NoiseTerm::BiasInstability => &mut m.bias_instability_dph,
+                NoiseTerm::Rrw => &mut m.rrw_dph_rth,
+                NoiseTerm::GmSigma => &mut m.gm_sigma_dph,
+                NoiseTerm::GmTau => &mut m.gm_tau_s,
+            } = v;
+        }
         Setting::OrderMore(more) => match &mut cfg.order {
             Order::List(l) => {
                 for &p in more.as_slice() {
@@ -134,6 +171,12 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
                 v if v.eq_ignore_ascii_case("warn") => Setting::TiltRefuse(false),
                 _ => return Err(LinkError::BadValue),
             }
+        } else if k("target_arcsec") {
+            Setting::TargetArcsec(check(num(val)?, 0.0, 36_000.0)?)
+        } else if let Some(&(_, term)) = NOISE_KEYS.iter().find(|(name, _)| k(name)) {
+            // Parsed as f32: the firmware carries no f64 parser for seven significant digits.
+            let v: f32 = num(val)?;
+            Setting::Noise(term, check(v, 0.0, 1.0e6)? as f64)
         } else if k("order") {
             Setting::Order(Order::parse(val).map_err(LinkError::Order)?)
         } else if k("order+") {
@@ -195,6 +238,40 @@ mod tests {
             parse("SET order 0,1,two"),
             Err(LinkError::Order(OrderError::BadEntry { at: 2 }))
         );
+    }
+
+    #[test]
+    fn the_noise_model_and_the_target_are_set_in_ieee_units() {
+        let mut cfg = RunConfig::DEFAULT;
+        for line in [
+            "SET arw 0.0012",
+            "SET bias_instability 0.004",
+            "SET rrw 0.3",
+            "SET gm_sigma 0.01",
+            "SET gm_tau 60",
+            "SET target_arcsec 18",
+        ] {
+            match parse(line) {
+                Ok(Command::Set(s)) => apply(&mut cfg, s).unwrap(),
+                other => panic!("{line}: {other:?}"),
+            }
+        }
+        let m = cfg.noise;
+        assert_eq!(
+            (
+                m.arw_deg_rth,
+                m.bias_instability_dph,
+                m.rrw_dph_rth,
+                m.gm_sigma_dph,
+                m.gm_tau_s
+            ),
+            // To f32's seven digits.
+            (0.0012f32 as f64, 0.004f32 as f64, 0.3f32 as f64, 0.01f32 as f64, 60.0)
+        );
+        assert_eq!(cfg.target_arcsec, 18.0);
+        assert_eq!(parse("SET rrw -1"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET arw nan"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET target_arcsec x"), Err(LinkError::BadValue));
     }
 
     #[test]

@@ -14,9 +14,11 @@ use crate::stepper::{Motor, MotorError};
 use embedded_hal_async::spi::SpiBus;
 use embedded_io_async::{Read, Write};
 use nf_model::dwell::{Calibration, DwellAccumulator};
-use nf_model::fit::{AzimuthFit, FitConfig, FitError, FitResult, Obs};
+use nf_model::fit::{AzimuthFit, FitConfig, FitError, FitResult, Obs, vertical_earth_rate_dph};
 use nf_model::level::{TiltReading, fit_tilt};
+use nf_model::noise::{NoiseError, NoiseModel};
 use nf_model::order::{Order, OrderError};
+use nf_model::running::{Running, RunningGls};
 
 /// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
 pub trait GyroSource {
@@ -78,6 +80,12 @@ pub struct RunConfig {
     pub max_corrections: u8,
     /// Remove the vertical Earth rate of each position's inclinometer X reading in the fit.
     pub tilt_correction: bool,
+    /// The gyro's noise model for the running azimuth; with no angle random walk the white
+    /// part of each dwell mean comes from its samples' spread.
+    pub noise: NoiseModel,
+    /// End the run once the running sigma under the noise model is at most this, arcsec
+    /// (0: visit every position).
+    pub target_arcsec: f32,
     pub calibration: Calibration,
 }
 
@@ -101,6 +109,8 @@ impl RunConfig {
         position_tol_deg: 0.02,
         max_corrections: 3,
         tilt_correction: true,
+        noise: NoiseModel::WHITE_NONE,
+        target_arcsec: 0.0,
         calibration: Calibration::DEFAULT,
     };
 }
@@ -123,6 +133,8 @@ pub enum Fault {
     BadConfig,
     /// The visiting order cannot visit the positions.
     Order(OrderError),
+    /// The noise model is not valid.
+    Noise(NoiseError),
     /// The motor was driven but the encoder did not follow.
     Stall {
         commanded_steps: i32,
@@ -194,6 +206,10 @@ pub struct RunReport {
     pub levelling: Option<Levelling>,
     /// The fit of the positions measured (all of them when the run finished).
     pub azimuth: Option<Azimuth>,
+    /// The running azimuth under the noise model.
+    pub under_noise: Option<Running>,
+    /// The run ended early: the running sigma reached the target.
+    pub target_reached: bool,
 }
 
 /// The instrument as the run sees it: the firmware's own drivers on buses and pins.
@@ -395,6 +411,31 @@ where
         })
     }
 
+    /// Adds a dwell to the running azimuth under the noise model and logs it.
+    fn under_noise(&self, running: &mut RunningGls, rec: &Record) -> Result<Running, RunError> {
+        let cfg = self.cfg;
+        let mut rate = rec.rate_dph;
+        if cfg.tilt_correction {
+            rate -= vertical_earth_rate_dph(cfg.latitude_deg, rec.tilt_x_deg) as f64;
+        }
+        // No white level given: the dwell's own samples show it.
+        let white =
+            (cfg.noise.arw_deg_rth == 0.0).then(|| rec.rate_sd_dph * rec.rate_sd_dph / rec.samples.max(1) as f64);
+        running.add(rec.encoder_deg, rec.t_s, rate, white).map_err(|_| {
+            self.err(Fault::Fit(FitError::NonFinite {
+                index: rec.index as u32,
+            }))
+        })?;
+        let r = running.azimuth();
+        info!(
+            "under the noise model: psi {} deg +- {} arcsec after {} dwells",
+            r.psi_deg,
+            r.sigma_psi_deg * 3600.0,
+            r.dwells
+        );
+        Ok(r)
+    }
+
     async fn header(&mut self) {
         let c = self.cfg;
         for l in [
@@ -452,6 +493,8 @@ where
         positions: 0,
         levelling: None,
         azimuth: None,
+        under_noise: None,
+        target_reached: false,
     };
     let fit_cfg = FitConfig {
         tilt_correction_lat_deg: cfg.tilt_correction.then_some(cfg.latitude_deg),
@@ -472,13 +515,20 @@ where
         });
         return report;
     }
-    if let Err(e) = cfg.order.check(cfg.positions) {
-        report.result = Err(RunError {
-            stage: Stage::Levelling,
-            fault: Fault::Order(e),
-        });
-        return report;
-    }
+    let checked = cfg.order.check(cfg.positions).map_err(Fault::Order).and_then(|()| {
+        cfg.noise.validate().map_err(Fault::Noise)?;
+        RunningGls::new(&cfg.noise, cfg.dwell_ms as f64 / 1000.0).map_err(|_| Fault::BadConfig)
+    });
+    let mut running = match checked {
+        Ok(r) => r,
+        Err(fault) => {
+            report.result = Err(RunError {
+                stage: Stage::Levelling,
+                fault,
+            });
+            return report;
+        }
+    };
     info!(
         "run: {} positions, {} order, dwell {} ms, latitude {} deg",
         cfg.positions,
@@ -519,6 +569,20 @@ where
                     r.sigma_psi_deg * 3600.0,
                     r.n
                 );
+            }
+            let r = ctx.under_noise(&mut running, &rec)?;
+            report.under_noise = Some(r);
+            let sigma_arcsec = r.sigma_psi_deg * 3600.0;
+            if cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec as f64 {
+                info!(
+                    "target {} arcsec reached after {} of {} dwells: sigma {} arcsec under the noise model",
+                    cfg.target_arcsec,
+                    r.dwells,
+                    cfg.order.visits(cfg.positions),
+                    sigma_arcsec
+                );
+                report.target_reached = true;
+                break;
             }
         }
         ctx.stage = Stage::Fitting;

@@ -19,6 +19,7 @@ pub mod noise;
 pub mod order;
 pub mod paper;
 pub mod rng;
+pub mod running;
 pub mod uncertainty;
 
 pub use num_traits::Float;

@@ -18,10 +18,12 @@ const S_PER_H: f64 = 3600.0;
 
 /// The noise terms of a rate gyro. Zero switches a term off.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct NoiseModel {
     /// Angle random walk N, deg/sqrt(h): white rate noise.
     pub arw_deg_rth: f64,
-    /// Bias instability B, deg/h: flicker (1/f) bias, PSD `B^2 / (2 pi f)`.
+    /// Bias instability B, deg/h: flicker (1/f) bias with the Allan floor 0.664 B (two-sided
+    /// PSD `B^2 / (2 pi f)`, IEEE Std 952).
     pub bias_instability_dph: f64,
     /// Rate random walk K, deg/h/sqrt(h).
     pub rrw_dph_rth: f64,

@@ -24,6 +24,10 @@ pub struct SimArgs {
     /// comma-separated list of position numbers.
     #[arg(long, default_value = "sequential")]
     order: String,
+    /// End the run when the firmware's running sigma under the gyro's noise model reaches this,
+    /// arcsec.
+    #[arg(long)]
+    target_arcsec: Option<f32>,
     /// Stepper cruise speed, steps/s.
     #[arg(long, default_value_t = stepper::Config::default().max_sps)]
     max_sps: f32,
@@ -99,6 +103,9 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     let order = Order::parse(&a.order)
         .and_then(|o| o.check(a.n).map(|()| o))
         .map_err(|e| Fail(format!("--order: {e}"), 2))?;
+    if a.target_arcsec.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
+        return Err(Fail("--target-arcsec must be a positive number".into(), 2));
+    }
     let motor_ok = a.max_sps.is_finite() && a.max_sps >= stepper::Config::default().start_sps;
     if !(motor_ok && a.accel > 0.0 && a.accel.is_finite()) {
         return Err(Fail(
@@ -130,6 +137,8 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     let run = RunConfig {
         positions: a.n,
         order,
+        noise: twin.noise,
+        target_arcsec: a.target_arcsec.unwrap_or(0.0),
         dwell_ms: (a.dwell * 1000.0).round() as u32,
         settle_ms: (a.settle * 1000.0).round() as u32,
         latitude_deg: a.lat as f32,
@@ -147,18 +156,32 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             "duration_s": world.t_s(),
             "firmware_azimuth_deg": az.map(|x| x.psi_deg),
             "firmware_sigma_arcsec": az.map(|x| x.sigma_arcsec),
+            "under_noise": report.under_noise.map(|u| json!({"psi_deg": u.psi_deg, "sigma_arcsec": u.sigma_psi_deg * 3600.0, "dwells": u.dwells})),
+            "target_reached": report.target_reached,
             "error": report.result.err().map(|e| format!("{e:?}")),
         });
         eprintln!("{j}");
     } else if let Some(x) = az {
         eprintln!(
-            "simulated {} positions over {:.0} s; firmware fit: psi {:.4} deg +- {:.1}\" (truth {:.4})",
+            "simulated {} dwells over {:.0} s; firmware fit: psi {:.4} deg +- {:.1}\" (truth {:.4})",
             report.positions,
             world.t_s(),
             x.psi_deg,
             x.sigma_arcsec,
             a.psi
         );
+        if let Some(u) = report.under_noise {
+            eprintln!(
+                "firmware under the noise model: psi {:.4} deg +- {:.1}\"{}",
+                u.psi_deg,
+                u.sigma_psi_deg * 3600.0,
+                if report.target_reached {
+                    "; the target was reached and the run ended early"
+                } else {
+                    ""
+                }
+            );
+        }
     }
     match report.result {
         Ok(()) => Ok(()),
