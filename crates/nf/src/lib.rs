@@ -15,6 +15,7 @@ pub mod plot;
 pub mod recording;
 pub mod schedule;
 mod stats;
+pub mod textfile;
 
 mod cli;
 
