@@ -14,6 +14,7 @@ pub mod plan_noise;
 pub mod plot;
 pub mod recording;
 pub mod schedule;
+pub mod static_log;
 mod stats;
 pub mod textfile;
 
