@@ -1,6 +1,7 @@
 //! `nf`, the north finder's host tool.
 
 pub mod allan;
+pub mod allan_fit;
 pub mod allan_model;
 pub mod analysis;
 pub mod diagnose;
