@@ -10,6 +10,7 @@ pub mod gls;
 mod linfit;
 pub mod logparse;
 pub mod noise_est;
+pub mod noise_file;
 pub mod noise_fit;
 pub mod paper;
 pub mod plan;
