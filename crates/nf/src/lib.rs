@@ -3,6 +3,7 @@
 pub mod allan;
 pub mod allan_fit;
 pub mod allan_model;
+pub mod allan_source;
 pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;
