@@ -51,6 +51,12 @@ impl Cov {
         None
     }
 
+    /// Factors a true covariance as it is, with no constant added; `None` if it is not
+    /// positive definite.
+    pub fn exact(sigma: &[f64], n: usize) -> Option<Cov> {
+        cholesky(sigma, n, 0.0).map(|chol| Cov { n, chol })
+    }
+
     /// `L^-1 v`.
     pub fn whiten(&self, v: &[f64]) -> Vec<f64> {
         let n = self.n;

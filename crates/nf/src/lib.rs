@@ -1,5 +1,9 @@
 //! `nf`, the north finder's host tool.
 
+pub mod allan;
+pub mod allan_fit;
+pub mod allan_model;
+pub mod allan_source;
 pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;
@@ -7,6 +11,7 @@ pub mod gls;
 pub(crate) mod linfit;
 pub mod logparse;
 pub mod noise_est;
+pub mod noise_file;
 pub mod noise_fit;
 pub mod paper;
 pub mod plan;
@@ -14,7 +19,9 @@ pub mod plan_noise;
 pub mod plot;
 pub mod recording;
 pub mod schedule;
+pub mod static_log;
 mod stats;
+pub mod textfile;
 pub mod twin_check;
 
 mod cli;

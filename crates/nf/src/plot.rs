@@ -9,6 +9,8 @@ use std::fmt::Write;
 pub enum Style {
     Line,
     Points,
+    /// Vertical bars, one per pair of points `(x, low), (x, high)`: error bars.
+    Bars,
 }
 
 #[derive(Debug, Clone)]
@@ -25,6 +27,7 @@ pub struct Panel {
     pub y_label: String,
     pub series: Vec<Series>,
     pub log_x: bool,
+    pub log_y: bool,
 }
 
 pub const W: f64 = 760.0;
@@ -81,7 +84,26 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     out
 }
 
+/// Ticks of a log axis whose range is `[lo, hi]` in decades: 1, 2 and 5 per decade when it
+/// spans few decades, decades only otherwise.
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let mults: &[f64] = if hi - lo <= 2.5 { &[1.0, 2.0, 5.0] } else { &[1.0] };
+    let mut out = Vec::new();
+    for d in (lo.floor() as i32)..=(hi.ceil() as i32) {
+        for m in mults {
+            let t = m * 10f64.powi(d);
+            if (lo - 1e-9..=hi + 1e-9).contains(&t.log10()) {
+                out.push(t);
+            }
+        }
+    }
+    out
+}
+
 fn fmt_tick(t: f64) -> String {
+    if t != 0.0 && (t.abs() < 1e-3 || t.abs() >= 1e6) {
+        return format!("{t:.0e}");
+    }
     let s = format!("{t:.6}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" { "0".into() } else { s.into() }
@@ -89,13 +111,14 @@ fn fmt_tick(t: f64) -> String {
 
 fn draw_panel(s: &mut impl Surface, p: &Panel, y0: f64) {
     let tx = |x: f64| if p.log_x { x.log10() } else { x };
-    let good = |&(x, y): &(f64, f64)| x.is_finite() && y.is_finite();
+    let ty = |y: f64| if p.log_y { y.log10() } else { y };
+    let good = |&(x, y): &(f64, f64)| tx(x).is_finite() && ty(y).is_finite();
     let (mut xl, mut xh, mut yl, mut yh) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for &(x, y) in p.series.iter().flat_map(|s| s.points.iter()).filter(|p| good(p)) {
         xl = xl.min(tx(x));
         xh = xh.max(tx(x));
-        yl = yl.min(y);
-        yh = yh.max(y);
+        yl = yl.min(ty(y));
+        yh = yh.max(ty(y));
     }
     if xl > xh {
         (xl, xh, yl, yh) = (0.0, 1.0, 0.0, 1.0);
@@ -109,18 +132,14 @@ fn draw_panel(s: &mut impl Surface, p: &Panel, y0: f64) {
     let (pw, ph) = (W - M.0 - M.1, H - M.2 - M.3);
     let top = y0 + M.2;
     let sx = |x: f64| M.0 + (tx(x) - xl) / (xh - xl).max(1e-12) * pw;
-    let sy = |y: f64| top + (1.0 - (y - yl) / (yh - yl)) * ph;
-    let xt = if p.log_x {
-        ticks(xl, xh).into_iter().map(|t| 10f64.powf(t)).collect()
-    } else {
-        ticks(xl, xh)
-    };
-    for t in xt {
+    let sy = |y: f64| top + (1.0 - (ty(y) - yl) / (yh - yl)) * ph;
+    let axis = |log: bool, lo: f64, hi: f64| if log { log_ticks(lo, hi) } else { ticks(lo, hi) };
+    for t in axis(p.log_x, xl, xh) {
         let x = sx(t);
         s.line((x, top), (x, top + ph), GRID);
         s.text(x, top + ph + 15.0, 11.0, Anchor::Middle, false, &fmt_tick(t));
     }
-    for t in ticks(yl, yh) {
+    for t in axis(p.log_y, yl, yh) {
         let y = sy(t);
         s.line((M.0, y), (M.0 + pw, y), GRID);
         s.text(M.0 - 5.0, y + 4.0, 11.0, Anchor::End, false, &fmt_tick(t));
@@ -131,15 +150,16 @@ fn draw_panel(s: &mut impl Surface, p: &Panel, y0: f64) {
     s.text(16.0, top + ph / 2.0, 12.0, Anchor::Middle, true, &p.y_label);
     for (k, series) in p.series.iter().enumerate() {
         let c = COLORS[k % COLORS.len()];
-        let pts: Vec<(f64, f64)> = series
-            .points
-            .iter()
-            .filter(|p| good(p))
-            .map(|&(x, y)| (sx(x), sy(y)))
-            .collect();
+        let at = |&(x, y): &(f64, f64)| (sx(x), sy(y));
+        let pts: Vec<(f64, f64)> = series.points.iter().filter(|p| good(p)).map(at).collect();
         match series.style {
             Style::Line => s.polyline(&pts, c),
             Style::Points => pts.iter().for_each(|&q| s.dot(q, c)),
+            Style::Bars => series
+                .points
+                .chunks_exact(2)
+                .filter(|b| good(&b[0]) && good(&b[1]))
+                .for_each(|b| s.line(at(&b[0]), at(&b[1]), c)),
         }
         let ly = top + 14.0 + 14.0 * k as f64;
         s.rect(M.0 + 10.0, ly - 4.0, 10.0, 3.0, c, true);
@@ -278,7 +298,26 @@ mod tests {
                 },
             ],
             log_x: false,
+            log_y: false,
         }
+    }
+
+    #[test]
+    fn log_axes_tick_at_decades_and_skip_what_they_cannot_show() {
+        assert_eq!(log_ticks(-0.2, 1.1), vec![1.0, 2.0, 5.0, 10.0]);
+        assert_eq!(log_ticks(-3.0, 2.0), vec![1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0]);
+        assert_eq!(fmt_tick(1e-4), "1e-4");
+        let mut p = panel();
+        (p.log_x, p.log_y) = (true, true);
+        p.series.push(Series {
+            name: "ci".into(),
+            points: vec![(1.0, 1.0), (1.0, 2.0), (0.5, -1.0), (0.5, 3.0)],
+            style: Style::Bars,
+        });
+        // y = -1 cannot be drawn on a log axis: one bar of the two.
+        let svg = render_svg(&[p]);
+        assert_eq!(svg.matches(r##"stroke="#2ca02c"/>"##).count(), 1, "{svg}");
+        assert!(!svg.contains("NaN") && !svg.contains("inf"));
     }
 
     #[test]

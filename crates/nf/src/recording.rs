@@ -2,8 +2,9 @@
 //! order, extra columns and metadata ignored, optional columns may be missing. A malformed
 //! line is an error that names the line and the problem; nothing is guessed.
 
+pub use crate::textfile::Error;
+use crate::textfile::{Head, err, number, optional as optional_cell};
 use std::collections::BTreeMap;
-use std::fmt;
 
 pub const FORMAT: &str = "northfinder-recording/1";
 
@@ -33,83 +34,13 @@ pub struct Recording {
     pub rows: Vec<Row>,
 }
 
-/// What is wrong, and on which line (0 when it is about the whole file).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Error {
-    pub line: usize,
-    pub what: String,
-}
-
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.line == 0 {
-            write!(f, "{}", self.what)
-        } else {
-            write!(f, "line {}: {}", self.line, self.what)
-        }
-    }
-}
-
-impl std::error::Error for Error {}
-
-fn err<T>(line: usize, what: impl Into<String>) -> Result<T, Error> {
-    Err(Error {
-        line,
-        what: what.into(),
-    })
-}
-
 const REQUIRED: [&str; 4] = ["index", "t_s", "encoder_deg", "rate_dph"];
-
-fn unquote(s: &str) -> &str {
-    let s = s.trim();
-    s.strip_prefix('"')
-        .and_then(|s| s.strip_suffix('"'))
-        .unwrap_or(s)
-        .trim()
-}
 
 impl Recording {
     pub fn parse(text: &str) -> Result<Recording, Error> {
-        let mut meta = BTreeMap::new();
-        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim_end_matches('\r')));
-        // Metadata, then the header.
-        let (header_line, header) = loop {
-            let Some((n, l)) = lines.next() else {
-                return err(0, "no header line: the file ends before the column names");
-            };
-            let t = l.trim();
-            if t.is_empty() {
-                continue;
-            }
-            if let Some(m) = t.strip_prefix('#') {
-                let Some((k, v)) = m.split_once('=') else {
-                    return err(
-                        n,
-                        format!("metadata line without '=': '{t}' (expected '# key = value')"),
-                    );
-                };
-                let (k, v) = (k.trim().to_string(), v.trim().to_string());
-                if k.is_empty() {
-                    return err(n, "metadata line with an empty key");
-                }
-                if meta.insert(k.clone(), v).is_some() {
-                    return err(n, format!("metadata key '{k}' given twice"));
-                }
-                continue;
-            }
-            break (n, t);
-        };
-        match meta.get("format").map(String::as_str) {
-            None => {
-                return err(
-                    0,
-                    "required metadata 'format' is missing (expected 'format = northfinder-recording/1')",
-                );
-            }
-            Some(FORMAT) => {}
-            Some(f) => return err(0, format!("format '{f}' is not supported (this reader knows {FORMAT})")),
-        }
+        let head = Head::parse(text)?;
+        head.require_format(FORMAT)?;
+        let meta = head.meta.clone();
         let latitude_deg: f64 = match meta.get("latitude_deg") {
             None => return err(0, "required metadata 'latitude_deg' is missing"),
             Some(v) => match v.parse::<f64>() {
@@ -122,59 +53,21 @@ impl Recording {
                 }
             },
         };
-        let names: Vec<&str> = header.split(',').map(unquote).collect();
-        let mut col = BTreeMap::new();
-        for (i, name) in names.iter().enumerate() {
-            if name.is_empty() {
-                continue;
-            }
-            if col.insert(*name, i).is_some() {
-                return err(header_line, format!("column '{name}' appears twice"));
-            }
-        }
-        for r in REQUIRED {
-            if !col.contains_key(r) {
-                return err(
-                    header_line,
-                    format!("required column '{r}' is missing (header: '{header}')"),
-                );
-            }
-        }
-        let opt = |name: &str| col.get(name).copied();
+        head.require_columns(&REQUIRED)?;
+        let col = |name: &str| head.col(name).expect("required column");
         let mut rows = Vec::new();
-        for (n, l) in lines {
-            let t = l.trim();
-            if t.is_empty() || t.starts_with('#') {
-                continue;
-            }
-            let cells: Vec<&str> = t.split(',').map(unquote).collect();
-            if cells.len() != names.len() {
-                return err(n, format!("{} fields, the header has {}", cells.len(), names.len()));
-            }
-            let num = |name: &str| -> Result<f64, Error> {
-                let v = cells[col[name]];
-                match v.parse::<f64>() {
-                    Ok(x) if x.is_finite() => Ok(x),
-                    _ if v.is_empty() => err(n, format!("{name} is empty")),
-                    _ => err(n, format!("{name} '{v}' is not a finite number")),
-                }
-            };
-            let optional = |name: &str| -> Result<Option<f64>, Error> {
-                let Some(i) = opt(name) else { return Ok(None) };
-                let v = cells[i];
-                if v.is_empty() || v.eq_ignore_ascii_case("nan") || v.eq_ignore_ascii_case("na") {
-                    return Ok(None);
-                }
-                match v.parse::<f64>() {
-                    Ok(x) if x.is_finite() => Ok(Some(x)),
-                    _ => err(n, format!("{name} '{v}' is not a number")),
-                }
+        for row in head.rows(text) {
+            let (n, cells) = row?;
+            let num = |name: &str| number(n, name, cells[col(name)]);
+            let optional = |name: &str| match head.col(name) {
+                Some(i) => optional_cell(n, name, cells[i]),
+                None => Ok(None),
             };
             let index = num("index")?;
             if index < 0.0 || index.fract() != 0.0 || index > u32::MAX as f64 {
                 return err(
                     n,
-                    format!("index '{}' is not a whole number from 0", cells[col["index"]]),
+                    format!("index '{}' is not a whole number from 0", cells[col("index")]),
                 );
             }
             let encoder_deg = num("encoder_deg")?;

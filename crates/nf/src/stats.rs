@@ -1,5 +1,6 @@
 //! Distribution tails for the nested-model tests: F and Student t through the regularized
-//! incomplete beta function (Lentz's continued fraction), log-gamma by Lanczos.
+//! incomplete beta function (Lentz's continued fraction), log-gamma by Lanczos; chi-square
+//! quantiles for confidence intervals through the regularized incomplete gamma function.
 
 fn ln_gamma(x: f64) -> f64 {
     const G: [f64; 9] = [
@@ -92,6 +93,69 @@ pub fn t_sf2(t: f64, nu: f64) -> f64 {
     beta_inc(nu / 2.0, 0.5, nu / (nu + t * t))
 }
 
+/// Regularized lower incomplete gamma `P(a, x)`: its series below `a + 1`, else one minus the
+/// continued fraction of `Q` (Lentz).
+pub fn gamma_p(a: f64, x: f64) -> f64 {
+    if x <= 0.0 {
+        return 0.0;
+    }
+    let front = (a * x.ln() - x - ln_gamma(a)).exp();
+    if x < a + 1.0 {
+        let (mut sum, mut term, mut ap) = (1.0 / a, 1.0 / a, a);
+        for _ in 0..10_000 {
+            ap += 1.0;
+            term *= x / ap;
+            sum += term;
+            if term.abs() < sum.abs() * 1e-16 {
+                break;
+            }
+        }
+        return sum * front;
+    }
+    let tiny = 1e-300;
+    let mut b = x + 1.0 - a;
+    let (mut c, mut d) = (1.0 / tiny, 1.0 / b);
+    let mut h = d;
+    for i in 1..10_000 {
+        let an = -(i as f64) * (i as f64 - a);
+        b += 2.0;
+        d = an * d + b;
+        d = if d.abs() < tiny { 1.0 / tiny } else { 1.0 / d };
+        c = b + an / c;
+        if c.abs() < tiny {
+            c = tiny;
+        }
+        let del = d * c;
+        h *= del;
+        if (del - 1.0).abs() < 1e-15 {
+            break;
+        }
+    }
+    1.0 - front * h
+}
+
+/// The `p` quantile of chi-square with `k > 0` degrees of freedom (`k` need not be whole), by
+/// bisection on the distribution function.
+pub fn chi2_quantile(p: f64, k: f64) -> f64 {
+    let cdf = |x: f64| gamma_p(k / 2.0, x / 2.0);
+    let (mut lo, mut hi) = (0.0, k.max(1.0));
+    while cdf(hi) < p {
+        hi *= 2.0;
+    }
+    for _ in 0..300 {
+        let mid = 0.5 * (lo + hi);
+        if cdf(mid) < p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-13 * hi {
+            break;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -107,5 +171,29 @@ mod tests {
         assert!((f_sf(4.35, 1.0, 20.0) - 0.05).abs() < 1e-3);
         assert_eq!(f_sf(0.0, 2.0, 10.0), 1.0);
         assert!((beta_inc(2.0, 3.0, 0.4) - 0.5248).abs() < 1e-4);
+    }
+
+    #[test]
+    fn chi_square_quantiles_match_scipy() {
+        // scipy.special.gammainc and scipy.stats.chi2.ppf (scipy 1.17).
+        let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+        assert!(rel(gamma_p(3.0, 2.0), 0.32332358381693654) < 1e-12);
+        assert!(rel(gamma_p(0.5, 10.0), 0.999992255783569) < 1e-12);
+        assert!(rel(gamma_p(50.0, 45.0), 0.24680203440017026) < 1e-10);
+        for (p, k, want) in [
+            (0.158655, 1.0, 0.04006937464241438),
+            (0.841345, 1.0, 1.9869991364434345),
+            (0.158655, 10.0, 5.680614504724601),
+            (0.841345, 10.0, 14.325512320132137),
+            (0.5, 2.5, 1.8738477677808791),
+            (0.158655, 0.4, 0.00013120037398231527),
+            (0.975, 200.0, 241.05789550631093),
+        ] {
+            assert!(
+                rel(chi2_quantile(p, k), want) < 1e-9,
+                "{p} {k}: {}",
+                chi2_quantile(p, k)
+            );
+        }
     }
 }

@@ -54,6 +54,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
                 style: Style::Points,
             }],
             log_x: false,
+            log_y: false,
         };
         plot::write(
             p,

@@ -242,6 +242,7 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
                 },
             ],
             log_x: false,
+            log_y: false,
         },
         Panel {
             title: format!("residuals, RSS = {:.3e} (deg/h)^2", an.fit.rss),
@@ -253,6 +254,7 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
                 style: Style::Points,
             }],
             log_x: false,
+            log_y: false,
         },
     ]
 }

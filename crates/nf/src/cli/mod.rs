@@ -1,5 +1,6 @@
-//! The command line: `nf simulate | fit | plan | paper | log | diagnose`, one file each.
+//! The command line: `nf simulate | fit | plan | paper | log | diagnose | allan`, one file each.
 
+mod allan;
 mod diagnose;
 mod fit;
 mod log;
@@ -8,6 +9,7 @@ mod paper;
 mod plan;
 mod simulate;
 
+use allan::{AllanArgs, cmd_allan};
 use clap::{Parser, Subcommand};
 use diagnose::{DiagnoseArgs, cmd_diagnose};
 use fit::{FitArgs, cmd_fit};
@@ -42,6 +44,8 @@ enum Cmd {
     Log(LogArgs),
     /// Find the physics a recording has and the simulation left out; `--evaluate` runs the test suite.
     Diagnose(DiagnoseArgs),
+    /// Noise of a static gyro log: overlapping Allan deviation with intervals, and the fitted IEEE terms (N, B, K).
+    Allan(AllanArgs),
 }
 
 /// A failure to report: the message and the exit code.
@@ -62,6 +66,7 @@ pub fn main() -> ExitCode {
         Cmd::Paper(a) => cmd_paper(a),
         Cmd::Log(a) => cmd_log(a),
         Cmd::Diagnose(a) => cmd_diagnose(a),
+        Cmd::Allan(a) => cmd_allan(a),
     };
     match r {
         Ok(()) => ExitCode::SUCCESS,

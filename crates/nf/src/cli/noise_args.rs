@@ -1,7 +1,8 @@
-//! The gyro noise model on the command line: flags in IEEE Std 952 units, shared by the
-//! subcommands that take one.
+//! The gyro noise model on the command line: a noise file and flags in IEEE Std 952 units,
+//! shared by the subcommands that take one.
 
 use super::Fail;
+use crate::noise_file;
 use nf_model::noise::NoiseModel;
 
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -27,26 +28,36 @@ pub struct NoiseArgs {
     /// Heavy-tailed sample noise: Student-t degrees of freedom (> 2).
     #[arg(long, allow_hyphen_values = true)]
     pub student_t_dof: Option<f64>,
+    /// Noise-model file (`key = value` lines, or the JSON of `nf allan --json`): the base
+    /// model, which the flags above override.
+    #[arg(long = "noise", value_name = "FILE")]
+    pub noise_file: Option<String>,
 }
 
 impl NoiseArgs {
-    /// Whether any term was given.
+    /// Whether a noise file or any term was given.
     pub fn any(&self) -> bool {
-        [
-            self.arw,
-            self.bias_instability,
-            self.rrw,
-            self.gm_sigma,
-            self.gm_tau,
-            self.quantization,
-            self.student_t_dof,
-        ]
-        .iter()
-        .any(Option::is_some)
+        self.noise_file.is_some()
+            || [
+                self.arw,
+                self.bias_instability,
+                self.rrw,
+                self.gm_sigma,
+                self.gm_tau,
+                self.quantization,
+                self.student_t_dof,
+            ]
+            .iter()
+            .any(Option::is_some)
     }
 
-    /// `base` with the given terms replaced; an invalid model is an error (exit code 2).
+    /// `base`, or the noise file's model, with the given terms replaced; an unreadable file or
+    /// an invalid model is an error (exit code 2).
     pub fn apply(&self, base: NoiseModel) -> Result<NoiseModel, Fail> {
+        let base = match &self.noise_file {
+            Some(path) => noise_file::read(path).map_err(|e| Fail(e, 2))?,
+            None => base,
+        };
         let m = NoiseModel {
             arw_deg_rth: self.arw.unwrap_or(base.arw_deg_rth),
             bias_instability_dph: self.bias_instability.unwrap_or(base.bias_instability_dph),
@@ -74,6 +85,7 @@ impl NoiseArgs {
         .iter()
         .filter_map(|(n, v)| v.map(|v| format!("{n} {v}")))
         .collect();
-        parts.join(" ")
+        let file = self.noise_file.iter().map(|p| format!("--noise {p}"));
+        file.chain(parts).collect::<Vec<_>>().join(" ")
     }
 }

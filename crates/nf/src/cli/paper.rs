@@ -40,6 +40,7 @@ pub fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
                 })
                 .collect(),
             log_x: false,
+            log_y: false,
         };
         let mut fig7 = Panel {
             title: "Fig. 7: shaft tilt, Eq. 30 (eta = sigma_eta, n = 180, psi = 45) and the exact model".into(),
@@ -57,6 +58,7 @@ pub fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
                 })
                 .collect(),
             log_x: false,
+            log_y: false,
         };
         fig7.series.push(Series {
             name: "exact: eta tan(lat)".into(),

@@ -222,6 +222,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                 },
             ],
             log_x: false,
+            log_y: false,
         };
         plot::write(p, &[panel])?;
     }

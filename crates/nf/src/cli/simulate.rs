@@ -40,7 +40,7 @@ pub struct SimArgs {
     /// Settle time after each move, s.
     #[arg(long, default_value_t = 0.3)]
     settle: f64,
-    /// Gyro white noise of a 2 s dwell mean, deg/h (sets the ARW unless --arw is given).
+    /// Gyro white noise of a 2 s dwell mean, deg/h (sets the ARW unless --arw or --noise is given).
     #[arg(long, default_value_t = 0.005)]
     gyro_noise: f64,
     /// Gyro bias, deg/h.

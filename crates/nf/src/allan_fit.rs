@@ -1,0 +1,489 @@
+//! The noise model from an Allan curve: least squares of the Allan variance on the terms of
+//! `NoiseModel`, each basis function the expected Allan variance of one term at unit size (the
+//! variance is linear in the squared sizes), so the fitted model reproduces the fitted curve.
+//! Coefficients are kept non-negative. The points are weighted by their covariance under the
+//! fitted model, iterated: its diagonal is each estimate's `2 sigma^4 / edf`, and since every
+//! octave reuses the same data the points are correlated (0.5 between neighbours for white
+//! noise, 0.9 for random walk), so the fit is generalised least squares: its chi-square, the
+//! coefficients' covariance and the F tests then mean what they say. Quantisation and a
+//! Gauss-Markov term are kept only where an F test against the fit without them finds them.
+
+use crate::allan::{MIN_POINTS, Point, oavar, octaves};
+use crate::allan_model::Sampling;
+use crate::gls::Cov;
+use crate::linfit;
+use crate::stats::f_sf;
+use nf_model::noise::NoiseModel;
+
+/// False-alarm rate of the F tests for quantisation and a Gauss-Markov term.
+pub const ALPHA: f64 = 0.01;
+/// Reweighting passes: the weights settle after two or three.
+const ITERATIONS: usize = 4;
+/// Gauss-Markov correlation times tried per octave.
+const GM_PER_OCTAVE: f64 = 4.0;
+/// A point's variance never trusts the model below this fraction of the measured value, so
+/// that a term the fit dropped cannot give one point all the weight.
+const VAR_FLOOR: f64 = 0.1;
+
+/// One term of the noise model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Term {
+    Arw,
+    BiasInstability,
+    Rrw,
+    Quantization,
+    GaussMarkov { tau_s: f64 },
+}
+
+impl Term {
+    /// Sets this term's size (N, B, K, Q or the Gauss-Markov sigma) in `m`.
+    pub fn set(self, m: &mut NoiseModel, size: f64) {
+        match self {
+            Term::Arw => m.arw_deg_rth = size,
+            Term::BiasInstability => m.bias_instability_dph = size,
+            Term::Rrw => m.rrw_dph_rth = size,
+            Term::Quantization => m.quantization_arcsec = size,
+            Term::GaussMarkov { tau_s } => {
+                m.gm_sigma_dph = size;
+                m.gm_tau_s = tau_s;
+            }
+        }
+    }
+
+    /// This term alone at unit size.
+    pub fn unit(self) -> NoiseModel {
+        let mut m = NoiseModel::WHITE_NONE;
+        self.set(&mut m, 1.0);
+        m
+    }
+}
+
+/// A size on its own scale: the square root of the fitted coefficient `coef` (N^2, B^2, ...),
+/// and as its 1-sigma uncertainty the distance to the square root of `coef + coef_sd`: the
+/// delta method's `coef_sd / (2 size)` for a well-determined term, the 1-sigma upper bound
+/// for one fitted at zero.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Param {
+    pub value: f64,
+    pub sigma: f64,
+    pub coef: f64,
+    pub coef_sd: f64,
+}
+
+impl Param {
+    fn of(coef: f64, coef_sd: f64) -> Param {
+        let value = coef.max(0.0).sqrt();
+        Param {
+            value,
+            sigma: (coef + coef_sd).max(0.0).sqrt() - value,
+            coef,
+            coef_sd,
+        }
+    }
+
+    /// Whether zero lies within `k` standard deviations of the coefficient.
+    pub fn consistent_with_zero(&self, k: f64) -> bool {
+        self.coef <= k * self.coef_sd
+    }
+}
+
+/// An F test of a term against the fit without it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FTest {
+    pub f: f64,
+    pub p_value: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct AllanFit {
+    pub model: NoiseModel,
+    /// N, B, K, and quantisation and Gauss-Markov where kept, with their fitted sizes.
+    pub terms: Vec<(Term, Param)>,
+    /// Quantisation's test (contiguous series only); `None` when there are too few points.
+    pub q_test: Option<FTest>,
+    /// The best Gauss-Markov term's correlation time and test; `None` when too few points.
+    pub gm_test: Option<(f64, FTest)>,
+    pub chi2: f64,
+    pub dof: usize,
+    /// Each point's equivalent degrees of freedom under the fitted model.
+    pub edf: Vec<f64>,
+}
+
+impl AllanFit {
+    pub fn param(&self, want: Term) -> Option<Param> {
+        self.terms
+            .iter()
+            .find(|(t, _)| core::mem::discriminant(t) == core::mem::discriminant(&want))
+            .map(|(_, p)| *p)
+    }
+
+    /// The Gauss-Markov sigma and correlation time, when kept.
+    pub fn gm(&self) -> Option<(Param, f64)> {
+        self.terms.iter().find_map(|(t, p)| match t {
+            Term::GaussMarkov { tau_s } => Some((*p, *tau_s)),
+            _ => None,
+        })
+    }
+}
+
+/// A non-negative weighted least-squares solution over some terms.
+#[derive(Debug, Clone)]
+struct Solution {
+    terms: Vec<Term>,
+    coef: Vec<f64>,
+    chi2: f64,
+}
+
+impl Solution {
+    fn model(&self) -> NoiseModel {
+        let mut m = NoiseModel::WHITE_NONE;
+        for (t, c) in self.terms.iter().zip(&self.coef) {
+            if *c > 0.0 {
+                t.set(&mut m, c.sqrt());
+            }
+        }
+        m
+    }
+
+    fn support(&self) -> Vec<usize> {
+        (0..self.terms.len()).filter(|&i| self.coef[i] > 0.0).collect()
+    }
+}
+
+/// How the points are whitened: by their standard deviations (the first pass), or by the
+/// Cholesky factor of their covariance.
+enum Whitening {
+    Diagonal(Vec<f64>),
+    Full(Cov),
+}
+
+impl Whitening {
+    fn apply(&self, v: &[f64]) -> Vec<f64> {
+        match self {
+            Whitening::Diagonal(sd) => v.iter().zip(sd).map(|(x, s)| x / s).collect(),
+            Whitening::Full(c) => c.whiten(v),
+        }
+    }
+}
+
+struct Problem<'a> {
+    points: &'a [Point],
+    sampling: Sampling,
+    white: Whitening,
+}
+
+impl Problem<'_> {
+    fn column(&self, t: Term) -> Vec<f64> {
+        let unit = t.unit();
+        let x: Vec<f64> = self
+            .points
+            .iter()
+            .map(|p| self.sampling.expected_avar(&unit, p.m))
+            .collect();
+        self.white.apply(&x)
+    }
+
+    fn y(&self) -> Vec<f64> {
+        let y: Vec<f64> = self.points.iter().map(|p| p.avar).collect();
+        self.white.apply(&y)
+    }
+
+    fn ls(&self, terms: &[Term]) -> Option<linfit::Ls> {
+        let cols: Vec<Vec<f64>> = terms.iter().map(|t| self.column(*t)).collect();
+        linfit::fit(&cols, &self.y())
+    }
+
+    /// Non-negative least squares by trying every support: the constrained optimum is the
+    /// unconstrained one on its support, and there are at most six terms.
+    fn nnls(&self, terms: &[Term]) -> Solution {
+        let y = self.y();
+        let mut best = Solution {
+            terms: terms.to_vec(),
+            coef: vec![0.0; terms.len()],
+            chi2: y.iter().map(|v| v * v).sum(),
+        };
+        for mask in 1u32..(1 << terms.len()) {
+            let idx: Vec<usize> = (0..terms.len()).filter(|i| mask >> i & 1 == 1).collect();
+            let sub: Vec<Term> = idx.iter().map(|&i| terms[i]).collect();
+            let Some(ls) = self.ls(&sub) else { continue };
+            if ls.coef.iter().all(|c| *c >= 0.0) && ls.rss < best.chi2 {
+                best.coef = vec![0.0; terms.len()];
+                for (k, &i) in idx.iter().enumerate() {
+                    best.coef[i] = ls.coef[k];
+                }
+                best.chi2 = ls.rss;
+            }
+        }
+        best
+    }
+
+    /// Standard deviation of each coefficient: from the fit on the support, or for a term
+    /// fitted at zero, from the fit with it added.
+    fn sds(&self, sol: &Solution) -> Vec<f64> {
+        let support = sol.support();
+        (0..sol.terms.len())
+            .map(|i| {
+                let mut idx = support.clone();
+                if !idx.contains(&i) {
+                    idx.push(i);
+                }
+                let sub: Vec<Term> = idx.iter().map(|&j| sol.terms[j]).collect();
+                let k = idx.iter().position(|&j| j == i).unwrap_or(0);
+                self.ls(&sub).map_or(f64::NAN, |ls| ls.cov_unit[k][k].sqrt())
+            })
+            .collect()
+    }
+
+    /// F test of `rich`, with `extra` more parameters, against `plain`; `None` when too few
+    /// points are left.
+    fn f_test(&self, plain: &Solution, rich: &Solution, extra: usize) -> Option<FTest> {
+        let d2 = self.points.len() as f64 - (plain.terms.len() + extra) as f64;
+        if d2 < 1.0 {
+            return None;
+        }
+        let f = (plain.chi2 - rich.chi2).max(0.0) / extra as f64 / (rich.chi2 / d2);
+        Some(FTest {
+            f,
+            p_value: f_sf(f, extra as f64, d2),
+        })
+    }
+
+    /// Quantisation added to `plain` if the F test finds it.
+    fn with_quantization(&self, plain: Solution) -> (Solution, Option<FTest>) {
+        let mut terms = plain.terms.clone();
+        terms.push(Term::Quantization);
+        let rich = self.nnls(&terms);
+        let test = self.f_test(&plain, &rich, 1);
+        match test {
+            Some(t) if t.p_value < ALPHA && rich.coef[terms.len() - 1] > 0.0 => (rich, test),
+            _ => (plain, test),
+        }
+    }
+
+    /// The best Gauss-Markov term on a grid of correlation times, added to `plain` if the F
+    /// test (two more parameters: sigma and tau) finds it.
+    fn with_gm(&self, plain: Solution) -> (Solution, Option<(f64, FTest)>) {
+        let n = self.points.len();
+        // The bump peaks near 1.9 tau: it shows only with points on both sides of its peak.
+        let (lo, hi) = (self.points[0].tau_s, self.points[n - 1].tau_s / 2.0);
+        let steps = ((hi / lo).log2() * GM_PER_OCTAVE).floor() as i32;
+        let base = plain.terms.len();
+        let best = (0..=steps)
+            .map(|k| lo * 2f64.powf(k as f64 / GM_PER_OCTAVE))
+            .map(|tau_s| {
+                let mut terms = plain.terms.clone();
+                terms.push(Term::GaussMarkov { tau_s });
+                (tau_s, self.nnls(&terms))
+            })
+            .filter(|(_, s)| s.coef[base] > 0.0)
+            .min_by(|a, b| a.1.chi2.total_cmp(&b.1.chi2));
+        let Some((tau_s, rich)) = best else {
+            return (plain, None);
+        };
+        match self.f_test(&plain, &rich, 2) {
+            Some(t) if t.p_value < ALPHA => (rich, Some((tau_s, t))),
+            t => (plain, t.map(|t| (tau_s, t))),
+        }
+    }
+}
+
+/// Fits the noise model to the Allan points of a series sampled as `sampling` in segments of
+/// `lens` values.
+pub fn fit(points: &[Point], sampling: Sampling, lens: &[usize]) -> Result<AllanFit, String> {
+    if points.len() < MIN_POINTS || points.iter().any(|p| !p.avar.is_finite()) {
+        return Err(format!(
+            "{} averaging times: an Allan fit needs at least {MIN_POINTS}",
+            points.len()
+        ));
+    }
+    if points.iter().all(|p| p.avar == 0.0) {
+        return Err("the rate does not vary: there is no noise to fit".into());
+    }
+    let base = [Term::Arw, Term::BiasInstability, Term::Rrw];
+    // First pass: an estimate's relative variance is about 2 / clusters.
+    let mut problem = Problem {
+        points,
+        sampling,
+        white: Whitening::Diagonal(
+            points
+                .iter()
+                .map(|p| p.avar.max(f64::MIN_POSITIVE) * (2.0 / p.clusters as f64).sqrt())
+                .collect(),
+        ),
+    };
+    let mut last = None;
+    for pass in 0..ITERATIONS {
+        let plain = problem.nnls(&base);
+        let (plain, q_test) = if sampling.is_contiguous() {
+            problem.with_quantization(plain)
+        } else {
+            (plain, None)
+        };
+        let (sol, gm_test) = problem.with_gm(plain);
+        let sds = problem.sds(&sol);
+        let model = sol.model();
+        last = Some((sol, q_test, gm_test, sds, model));
+        if pass + 1 < ITERATIONS {
+            problem.white = whitening(points, sampling, &model, lens)?;
+        }
+    }
+    let (sol, q_test, gm_test, sds, model) = last.expect("at least one pass");
+    let edf = points.iter().map(|p| sampling.edf(&model, p.m, lens)).collect();
+    let terms = sol
+        .terms
+        .iter()
+        .zip(sol.coef.iter().zip(&sds))
+        .map(|(t, (c, s))| (*t, Param::of(*c, *s)))
+        .collect();
+    let free = sol.support().len() + usize::from(model.gm_sigma_dph > 0.0);
+    Ok(AllanFit {
+        model,
+        terms,
+        q_test,
+        gm_test,
+        chi2: sol.chi2,
+        dof: points.len().saturating_sub(free),
+        edf,
+    })
+}
+
+/// The points' covariance under `model`, factored. A point whose variance the model puts
+/// below `VAR_FLOOR` of the measured value is scaled up to it, correlations kept.
+fn whitening(points: &[Point], sampling: Sampling, model: &NoiseModel, lens: &[usize]) -> Result<Whitening, String> {
+    let n = points.len();
+    let scale: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            let e = sampling.expected_avar(model, p.m);
+            if e > 0.0 {
+                (VAR_FLOOR * p.avar / e).max(1.0)
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let mut sigma = vec![0.0; n * n];
+    for i in 0..n {
+        for j in i..n {
+            let v = sampling.avar_cov(model, points[i].m, points[j].m, lens) * scale[i] * scale[j];
+            sigma[i * n + j] = v;
+            sigma[j * n + i] = v;
+        }
+    }
+    if sigma.iter().any(|v| !v.is_finite()) || (0..n).any(|i| sigma[i * n + i] <= 0.0) {
+        return Err("the fitted noise model gives the Allan points no usable covariance".into());
+    }
+    // The lag sums are approximate: lift the diagonal a little if that is what it takes.
+    for lift in [0.0, 1e-9, 1e-6, 1e-3] {
+        let mut s = sigma.clone();
+        for i in 0..n {
+            s[i * n + i] *= 1.0 + lift;
+        }
+        if let Some(c) = Cov::exact(&s, n) {
+            return Ok(Whitening::Full(c));
+        }
+    }
+    let sd = (0..n).map(|i| sigma[i * n + i].sqrt()).collect();
+    Ok(Whitening::Diagonal(sd))
+}
+
+/// The Allan points of contiguous `segments` (octave factors) and the fit to them.
+pub fn fit_series(segments: &[&[f64]], sampling: Sampling) -> Result<(Vec<Point>, AllanFit), String> {
+    let lens: Vec<usize> = segments.iter().map(|s| s.len()).collect();
+    let longest = lens.iter().copied().max().unwrap_or(0);
+    let points = oavar(segments, sampling.step_s, &octaves(longest));
+    let f = fit(&points, sampling, &lens)?;
+    Ok((points, f))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points exactly on the model's curve.
+    fn exact(model: &NoiseModel, sampling: Sampling, n: usize) -> Vec<Point> {
+        octaves(n)
+            .into_iter()
+            .map(|m| Point {
+                m,
+                tau_s: m as f64 * sampling.step_s,
+                avar: sampling.expected_avar(model, m),
+                terms: n + 1 - 2 * m,
+                clusters: n / m,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_exact_curve_gives_back_its_model() {
+        let truth = NoiseModel {
+            arw_deg_rth: 0.002,
+            bias_instability_dph: 0.02,
+            rrw_dph_rth: 0.05,
+            ..NoiseModel::WHITE_NONE
+        };
+        let s = Sampling::contiguous(0.1);
+        let f = fit(&exact(&truth, s, 100_000), s, &[100_000]).unwrap();
+        let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-6;
+        assert!(close(f.model.arw_deg_rth, 0.002) && close(f.model.bias_instability_dph, 0.02));
+        assert!(close(f.model.rrw_dph_rth, 0.05) && f.model.quantization_arcsec == 0.0);
+        assert!(f.chi2 < 1e-12 && f.gm().is_none(), "{f:?}");
+        let b = f.param(Term::BiasInstability).unwrap();
+        assert!(b.sigma > 0.0 && b.sigma < 0.1 * b.value);
+        let ((_, measured), (tau, fitted)) = crate::allan_model::floor(&exact(&truth, s, 100_000), &f.model, s);
+        assert!(fitted <= measured && tau > 10.0 && tau < 1000.0, "{tau} {fitted}");
+    }
+
+    #[test]
+    fn a_gauss_markov_bump_is_found_and_flicker_is_not_taken_for_one() {
+        let truth = NoiseModel {
+            arw_deg_rth: 0.002,
+            gm_sigma_dph: 0.05,
+            gm_tau_s: 40.0,
+            ..NoiseModel::WHITE_NONE
+        };
+        let s = Sampling::contiguous(0.1);
+        let f = fit(&exact(&truth, s, 100_000), s, &[100_000]).unwrap();
+        let (sigma, tau) = f.gm().expect("GM found");
+        assert!(
+            (sigma.value / 0.05 - 1.0).abs() < 0.15 && (tau / 40.0 - 1.0).abs() < 0.2,
+            "{f:?}"
+        );
+        assert!(f.gm_test.unwrap().1.p_value < ALPHA);
+        let flicker = NoiseModel {
+            arw_deg_rth: 0.002,
+            bias_instability_dph: 0.02,
+            ..NoiseModel::WHITE_NONE
+        };
+        let f = fit(&exact(&flicker, s, 100_000), s, &[100_000]).unwrap();
+        assert!(f.gm().is_none(), "{f:?}");
+    }
+
+    #[test]
+    fn dwell_means_are_fitted_through_their_dead_time() {
+        let truth = NoiseModel {
+            arw_deg_rth: 0.003,
+            bias_instability_dph: 0.01,
+            ..NoiseModel::WHITE_NONE
+        };
+        let s = Sampling {
+            step_s: 3.0,
+            window_s: 2.0,
+        };
+        let f = fit(&exact(&truth, s, 200), s, &[200]).unwrap();
+        assert!((f.model.arw_deg_rth / 0.003 - 1.0).abs() < 1e-6, "{f:?}");
+        assert!(f.param(Term::Quantization).is_none());
+    }
+
+    #[test]
+    fn too_few_points_or_no_variation_is_an_error() {
+        let s = Sampling::contiguous(1.0);
+        let white = NoiseModel::white(0.01, 1.0);
+        assert!(fit(&exact(&white, s, 40), s, &[40]).unwrap_err().contains("at least"));
+        let flat: Vec<Point> = exact(&white, s, 400)
+            .into_iter()
+            .map(|p| Point { avar: 0.0, ..p })
+            .collect();
+        assert!(fit(&flat, s, &[400]).unwrap_err().contains("does not vary"));
+    }
+}

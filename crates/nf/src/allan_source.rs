@@ -1,0 +1,241 @@
+//! What `nf allan` reads, as one rate series: a static log's samples, or a recording's dwell
+//! means in time order with the Earth-rate harmonic and the bias removed. Either way it comes
+//! with its sampling (step and averaging window), its contiguous segments, and notes on what
+//! was assumed.
+
+use crate::allan::{MIN_CLUSTERS, MIN_POINTS, octaves};
+use crate::allan_model::Sampling;
+use crate::linfit;
+use crate::noise_fit::dwell_of;
+use crate::recording::{self, Recording};
+use crate::static_log::{self, Spacing, StaticLog};
+use crate::textfile::{Error, Head, err};
+
+/// A number for a note: six decimals at most, no trailing zeros.
+fn short(x: f64) -> String {
+    let s = format!("{x:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    StaticLog,
+    Recording,
+}
+
+impl Kind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::StaticLog => "static_log",
+            Kind::Recording => "recording",
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Source {
+    pub kind: Kind,
+    pub rates: Vec<f64>,
+    pub spacing: Spacing,
+    pub sampling: Sampling,
+    pub notes: Vec<String>,
+}
+
+impl Source {
+    /// Reads either format, told apart by its `format` metadata; `sample_rate_hz` overrides
+    /// the step the time column gives.
+    pub fn parse(text: &str, sample_rate_hz: Option<f64>) -> Result<Source, Error> {
+        let head = Head::parse(text)?;
+        let src = match head.meta.get("format").map(String::as_str) {
+            Some(static_log::FORMAT) => from_static(StaticLog::parse(text)?, sample_rate_hz),
+            Some(recording::FORMAT) => from_recording(&Recording::parse(text)?, sample_rate_hz)?,
+            other => {
+                let what = other.map_or("no 'format' metadata".to_string(), |f| format!("format '{f}'"));
+                return err(
+                    0,
+                    format!(
+                        "{what}: nf allan reads '# format = {}' (a static log) or '# format = {}'",
+                        static_log::FORMAT,
+                        recording::FORMAT
+                    ),
+                );
+            }
+        };
+        src.long_enough()?;
+        Ok(src)
+    }
+
+    pub fn segments(&self) -> Vec<&[f64]> {
+        self.spacing.segments.iter().map(|r| &self.rates[r.clone()]).collect()
+    }
+
+    fn long_enough(&self) -> Result<(), Error> {
+        let longest = self.spacing.segments.iter().map(|r| r.len()).max().unwrap_or(0);
+        let points = octaves(longest).len();
+        if points >= MIN_POINTS {
+            return Ok(());
+        }
+        let need = MIN_CLUSTERS << (MIN_POINTS - 1);
+        err(
+            0,
+            format!(
+                "too short for an Allan fit: the longest contiguous run has {longest} values, which give {points} averaging times with {MIN_CLUSTERS} clusters each; the fit needs {MIN_POINTS} (at least {need} contiguous values)"
+            ),
+        )
+    }
+}
+
+/// The step: the override, else the time column's median step (with a note where the
+/// metadata's rate disagrees).
+fn step_of(spacing: &Spacing, meta_rate: Option<f64>, override_hz: Option<f64>, notes: &mut Vec<String>) -> f64 {
+    let off = |rate: f64| (rate * spacing.step_s - 1.0).abs() > 0.01;
+    if let Some(hz) = override_hz {
+        if off(hz) {
+            notes.push(format!(
+                "--sample-rate {hz} Hz sets the step to {} s; the time column steps by {} s (gaps are still found from it)",
+                short(1.0 / hz),
+                short(spacing.step_s)
+            ));
+        }
+        return 1.0 / hz;
+    }
+    if let Some(hz) = meta_rate.filter(|hz| off(*hz)) {
+        notes.push(format!(
+            "metadata sample_rate_hz = {hz}, but t_s steps by {} s: the time column is used (--sample-rate overrides)",
+            short(spacing.step_s)
+        ));
+    }
+    spacing.step_s
+}
+
+fn gap_notes(spacing: &Spacing, notes: &mut Vec<String>) {
+    for g in &spacing.gaps {
+        notes.push(format!(
+            "gap at line {}: time jumps from {} s to {} s",
+            g.line,
+            short(g.from_s),
+            short(g.to_s)
+        ));
+    }
+    if !spacing.gaps.is_empty() {
+        notes.push(format!(
+            "the log is split into {} contiguous segments: the Allan variance pools their second differences, none spans a gap",
+            spacing.segments.len()
+        ));
+    }
+}
+
+fn from_static(log: StaticLog, override_hz: Option<f64>) -> Source {
+    let mut notes = Vec::new();
+    let meta_rate = log.meta.get("sample_rate_hz").and_then(|v| v.parse().ok());
+    let step = step_of(&log.spacing, meta_rate, override_hz, &mut notes);
+    gap_notes(&log.spacing, &mut notes);
+    if let Some((lo, hi)) = log.temp_span_c {
+        notes.push(format!("temp_c from {lo} to {hi} C"));
+    }
+    Source {
+        kind: Kind::StaticLog,
+        rates: log.rate_dph,
+        spacing: log.spacing,
+        sampling: Sampling::contiguous(step),
+        notes,
+    }
+}
+
+fn from_recording(rec: &Recording, override_hz: Option<f64>) -> Result<Source, Error> {
+    let mut rows: Vec<&recording::Row> = rec.rows.iter().collect();
+    rows.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+    if let Some(w) = rows.windows(2).find(|w| w[1].t_s <= w[0].t_s) {
+        return err(
+            w[1].line,
+            format!("t_s {} repeats line {}'s: dwell times must differ", w[1].t_s, w[0].line),
+        );
+    }
+    if rows.len() < 2 {
+        return err(0, "one position: no time step to read");
+    }
+    let y: Vec<f64> = rows.iter().map(|r| r.rate_dph).collect();
+    let ones = vec![1.0; y.len()];
+    let cos: Vec<f64> = rows.iter().map(|r| r.encoder_deg.to_radians().cos()).collect();
+    let sin: Vec<f64> = rows.iter().map(|r| r.encoder_deg.to_radians().sin()).collect();
+    let mut notes = vec![
+        "a recording: its dwell means in time order, so only averaging times of a dwell cycle and longer are visible"
+            .to_string(),
+    ];
+    let rates = match linfit::fit(&[ones.clone(), cos, sin], &y) {
+        Some(ls) => {
+            notes.push("the Earth-rate harmonic and the bias (A cos + B sin + C, least squares) are removed first: the slowest noise is partly absorbed".into());
+            ls.resid
+        }
+        None => {
+            notes.push("the positions do not determine a harmonic: only the mean is removed".into());
+            linfit::fit(&[ones], &y).map_or(y, |ls| ls.resid)
+        }
+    };
+    let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
+    let lines: Vec<usize> = rows.iter().map(|r| r.line).collect();
+    let spacing = Spacing::of(&t, &lines);
+    let step = step_of(&spacing, None, override_hz, &mut notes);
+    let (dwell, from) = dwell_of(rec);
+    let window = dwell.min(step);
+    notes.push(format!(
+        "one mean every {} s, each over {} s ({from}): the fit allows for the dead time between them",
+        short(step),
+        short(window)
+    ));
+    gap_notes(&spacing, &mut notes);
+    Ok(Source {
+        kind: Kind::Recording,
+        rates,
+        spacing,
+        sampling: Sampling {
+            step_s: step,
+            window_s: window,
+        },
+        notes,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tells_the_formats_apart_and_says_what_it_assumed() {
+        let mut s = String::from("# format = northfinder-static/1\n# sample_rate_hz = 5\nt_s,rate_dph\n");
+        for i in 0..100 {
+            s += &format!("{},{}\n", i as f64 * 0.1, (i % 3) as f64);
+        }
+        let src = Source::parse(&s, None).unwrap();
+        assert_eq!((src.kind, src.rates.len()), (Kind::StaticLog, 100));
+        assert!(src.sampling.is_contiguous() && (src.sampling.step_s - 0.1).abs() < 1e-12);
+        assert!(src.notes[0].contains("sample_rate_hz = 5"), "{:?}", src.notes);
+        let over = Source::parse(&s, Some(5.0)).unwrap();
+        assert!((over.sampling.step_s - 0.2).abs() < 1e-12);
+        let e = Source::parse("# format = other/1\nt_s,rate_dph\n0,1\n", None).unwrap_err();
+        assert!(e.what.contains("format 'other/1'"), "{e}");
+    }
+
+    #[test]
+    fn a_recording_loses_its_harmonic_and_keeps_its_dead_time() {
+        let mut s = String::from(
+            "# format = northfinder-recording/1\n# latitude_deg = 40\n# dwell_s = 2\nindex,t_s,encoder_deg,rate_dph\n",
+        );
+        for i in 0..80 {
+            let g = (i * 45 % 360) as f64;
+            let noise = if i % 2 == 0 { 0.01 } else { -0.01 };
+            s += &format!(
+                "{i},{},{g},{}\n",
+                3.0 * i as f64 + 1.0,
+                11.5 * g.to_radians().cos() + 0.3 + noise
+            );
+        }
+        let src = Source::parse(&s, None).unwrap();
+        assert_eq!(src.kind, Kind::Recording);
+        assert!(src.rates.iter().all(|r| r.abs() < 0.02), "{:?}", &src.rates[..4]);
+        assert_eq!((src.sampling.step_s, src.sampling.window_s), (3.0, 2.0));
+        // 40 means are too few: four octaves need 64.
+        let short: String = s.lines().take(4 + 40).map(|l| format!("{l}\n")).collect();
+        assert!(Source::parse(&short, None).unwrap_err().what.contains("too short"));
+    }
+}

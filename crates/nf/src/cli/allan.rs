@@ -1,0 +1,293 @@
+//! `nf allan`: the overlapping Allan deviation of a static log (or a recording's dwell means),
+//! its confidence intervals, and the IEEE Std 952 noise terms fitted to it.
+
+use super::{Fail, positive};
+use crate::allan::{CI_LEVEL, Point, adev_interval};
+use crate::allan_fit::{ALPHA, AllanFit, Param, Term, fit_series};
+use crate::allan_model::{curve_taus, floor};
+use crate::allan_source::Source;
+use crate::noise_file;
+use crate::plot::{self, Panel, Series, Style};
+use nf_model::noise::{NoiseModel, flicker_floor_factor};
+use serde_json::{Value, json};
+
+#[derive(clap::Args)]
+pub struct AllanArgs {
+    /// A static log (northfinder-static/1) or a recording (northfinder-recording/1).
+    file: String,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+    /// Log-log chart: the curve with its intervals, the fit and each term (*.svg or *.png).
+    #[arg(long)]
+    plot: Option<String>,
+    /// Write the fitted model as a noise file (for --noise of simulate and fit).
+    #[arg(long)]
+    out: Option<String>,
+    /// Sample rate, Hz: overrides the step of the time column.
+    #[arg(long)]
+    sample_rate: Option<f64>,
+}
+
+/// What is reported: the input, the curve and its intervals, the fit.
+struct Report<'a> {
+    file: &'a str,
+    src: &'a Source,
+    points: &'a [Point],
+    /// Each point's interval of the deviation.
+    ci: Vec<(f64, f64)>,
+    fit: &'a AllanFit,
+}
+
+/// Four significant digits, scientific where that is shorter to read.
+fn g(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let mag = x.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        return format!("{x:.3e}");
+    }
+    format!("{x:.*}", (3 - mag).max(0) as usize)
+}
+
+fn check(a: &AllanArgs) -> Result<(), Fail> {
+    if a.sample_rate.is_some_and(|r| !(positive(r) && r.is_finite())) {
+        return Err(Fail("--sample-rate must be a positive number of Hz".into(), 2));
+    }
+    if let Some(p) = &a.plot {
+        let lower = p.to_ascii_lowercase();
+        if !(lower.ends_with(".svg") || lower.ends_with(".png")) {
+            return Err(Fail(format!("{p}: name the plot *.svg or *.png"), 2));
+        }
+    }
+    Ok(())
+}
+
+pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
+    check(&a)?;
+    let text = std::fs::read_to_string(&a.file).map_err(|e| Fail(format!("cannot read {}: {e}", a.file), 2))?;
+    let src = Source::parse(&text, a.sample_rate).map_err(|e| Fail(e.at(&a.file), 2))?;
+    let (points, fit) = fit_series(&src.segments(), src.sampling).map_err(|e| Fail(format!("{}: {e}", a.file), 1))?;
+    let r = Report {
+        file: &a.file,
+        src: &src,
+        points: &points,
+        ci: points
+            .iter()
+            .zip(&fit.edf)
+            .map(|(p, &e)| adev_interval(p.avar, e))
+            .collect(),
+        fit: &fit,
+    };
+    if let Some(path) = &a.plot {
+        plot::write(path, &[r.panel()])?;
+    }
+    if let Some(path) = &a.out {
+        let comment = format!(
+            "fitted by nf allan to {} ({} values); chi2/dof {}",
+            a.file,
+            src.rates.len(),
+            g(fit.chi2 / fit.dof as f64)
+        );
+        std::fs::write(path, noise_file::write(&fit.model, &comment))
+            .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r.json()).unwrap_or_default());
+    } else {
+        print!("{}", r.text());
+    }
+    Ok(())
+}
+
+/// The terms as (term, JSON key, label, unit).
+const TERMS: [(Term, &str, &str, &str); 4] = [
+    (Term::Arw, "arw_deg_rth", "N (angle random walk)", "deg/sqrt(h)"),
+    (
+        Term::BiasInstability,
+        "bias_instability_dph",
+        "B (bias instability)",
+        "deg/h",
+    ),
+    (Term::Rrw, "rrw_dph_rth", "K (rate random walk)", "deg/h/sqrt(h)"),
+    (Term::Quantization, "quantization_arcsec", "Q (quantisation)", "arcsec"),
+];
+
+fn describe_source(file: &str, src: &Source) -> String {
+    let n = src.rates.len();
+    let step = src.sampling.step_s;
+    format!(
+        "{file}: {}, {n} values every {} s ({} Hz), {} segment(s), {} h",
+        src.kind.name().replace('_', " "),
+        g(step),
+        g(1.0 / step),
+        src.spacing.segments.len(),
+        g(n as f64 * step / 3600.0)
+    )
+}
+
+impl Report<'_> {
+    /// The rows of the curve: point, edf, interval.
+    fn rows(&self) -> impl Iterator<Item = (&Point, f64, (f64, f64))> {
+        self.points
+            .iter()
+            .zip(&self.fit.edf)
+            .zip(&self.ci)
+            .map(|((p, e), c)| (p, *e, *c))
+    }
+
+    fn text(&self) -> String {
+        let (src, fit) = (self.src, self.fit);
+        let mut out = format!("source     {}\n", describe_source(self.file, src));
+        for n in &src.notes {
+            out += &format!("note       {n}\n");
+        }
+        out += &format!(
+            "\n{:>12} {:>12} {:>25} {:>10} {:>9}\n",
+            "tau_s",
+            "adev_dph",
+            format!("{:.0} % interval (deg/h)", CI_LEVEL * 100.0),
+            "clusters",
+            "edf"
+        );
+        for (p, edf, (lo, hi)) in self.rows() {
+            out += &format!(
+                "{:>12} {:>12} {:>25} {:>10} {:>9}\n",
+                g(p.tau_s),
+                g(p.avar.sqrt()),
+                format!("{} .. {}", g(lo), g(hi)),
+                p.clusters,
+                g(edf)
+            );
+        }
+        out += &format!(
+            "\nfit        generalised least squares of sigma^2(tau), points weighted by their covariance under the fitted model\n           chi2 {} on {} dof ({} per dof)\n",
+            g(fit.chi2),
+            fit.dof,
+            g(fit.chi2 / fit.dof as f64)
+        );
+        for (term, _, label, unit) in TERMS {
+            let line = match fit.param(term) {
+                Some(p) if p.value > 0.0 => format!("{} +- {} {unit}", g(p.value), g(p.sigma)),
+                Some(p) => format!("0 (1-sigma bound {} {unit})", g(p.sigma)),
+                None => match fit.q_test {
+                    Some(t) => format!("not significant (F test p = {}, kept below {ALPHA})", g(t.p_value)),
+                    None => "not fitted".into(),
+                },
+            };
+            out += &format!("{label:<26} {line}\n");
+        }
+        let gm = match (fit.gm(), fit.gm_test) {
+            (Some((s, tau)), _) => format!("sigma {} +- {} deg/h, tau {} s", g(s.value), g(s.sigma), g(tau)),
+            (None, Some((tau, t))) => format!("not significant (best tau {} s, F test p = {})", g(tau), g(t.p_value)),
+            (None, None) => "not tested (too few points)".into(),
+        };
+        out += &format!("{:<26} {gm}\n", "Gauss-Markov");
+        let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
+        out += &format!(
+            "\nfloor      measured: {} deg/h at tau {} s (read off as B = floor / {:.3}: {} deg/h)\n           fitted curve: {} deg/h at tau {} s\n",
+            g(ma),
+            g(mt),
+            flicker_floor_factor(),
+            g(ma / flicker_floor_factor()),
+            g(fa),
+            g(ft)
+        );
+        out
+    }
+
+    fn json(&self) -> Value {
+        let (src, fit) = (self.src, self.fit);
+        let mut j = json!({
+            "source": {
+                "file": self.file,
+                "kind": src.kind.name(),
+                "samples": src.rates.len(),
+                "segments": src.spacing.segments.len(),
+                "gaps": src.spacing.gaps.iter().map(|g| json!({"line": g.line, "from_s": g.from_s, "to_s": g.to_s})).collect::<Vec<_>>(),
+                "step_s": src.sampling.step_s,
+                "window_s": src.sampling.window_s,
+                "notes": src.notes,
+            },
+            "ci_level": CI_LEVEL,
+            "curve": self.rows().map(|(p, edf, (lo, hi))| json!({
+                "tau_s": p.tau_s, "adev_dph": p.avar.sqrt(), "lo_dph": lo, "hi_dph": hi,
+                "clusters": p.clusters, "edf": edf,
+            })).collect::<Vec<_>>(),
+            "fit_chi2": fit.chi2,
+            "fit_dof": fit.dof,
+            "fit_chi2_per_dof": fit.chi2 / fit.dof as f64,
+            "tests": {
+                "alpha": ALPHA,
+                "quantization": fit.q_test.map(|t| json!({"f": t.f, "p_value": t.p_value})),
+                "gauss_markov": fit.gm_test.map(|(tau, t)| json!({"tau_s": tau, "f": t.f, "p_value": t.p_value})),
+            },
+        });
+        let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
+        j["floor"] = json!({"measured_tau_s": mt, "measured_adev_dph": ma, "fitted_tau_s": ft, "fitted_adev_dph": fa});
+        let mut put = |key: &str, p: Option<Param>| {
+            j[key] = json!(p.map_or(0.0, |p| p.value));
+            j[format!("{key}_sigma")] = json!(p.map(|p| p.sigma));
+        };
+        for (term, key, _, _) in TERMS {
+            put(key, fit.param(term));
+        }
+        if let Some((s, tau)) = fit.gm() {
+            put("gm_sigma_dph", Some(s));
+            j["gm_tau_s"] = json!(tau);
+        }
+        j
+    }
+
+    fn panel(&self) -> Panel {
+        let (src, fit) = (self.src, self.fit);
+        let taus = curve_taus(self.points, src.sampling, 200);
+        let line = |name: String, m: &NoiseModel| Series {
+            name,
+            points: taus
+                .iter()
+                .map(|&t| (t, src.sampling.expected_at(m, t).max(0.0).sqrt()))
+                .collect(),
+            style: Style::Line,
+        };
+        let mut series = vec![
+            Series {
+                name: "measured (overlapping ADEV)".into(),
+                points: self.points.iter().map(|p| (p.tau_s, p.avar.sqrt())).collect(),
+                style: Style::Points,
+            },
+            Series {
+                name: format!("{:.0} % interval", CI_LEVEL * 100.0),
+                points: self
+                    .rows()
+                    .flat_map(|(p, _, (lo, hi))| [(p.tau_s, lo), (p.tau_s, hi)])
+                    .collect(),
+                style: Style::Bars,
+            },
+            line("fit: all terms".into(), &fit.model),
+        ];
+        for (term, p) in &fit.terms {
+            if p.value > 0.0 {
+                let mut m = NoiseModel::WHITE_NONE;
+                term.set(&mut m, p.value);
+                let name = match term {
+                    Term::Arw => "N: white".to_string(),
+                    Term::BiasInstability => "B: flicker".into(),
+                    Term::Rrw => "K: random walk".into(),
+                    Term::Quantization => "Q: quantisation".into(),
+                    Term::GaussMarkov { tau_s } => format!("Gauss-Markov, tau {} s", g(*tau_s)),
+                };
+                series.push(line(name, &m));
+            }
+        }
+        Panel {
+            title: format!("Allan deviation of {}", self.file),
+            x_label: "averaging time tau (s)".into(),
+            y_label: "Allan deviation (deg/h)".into(),
+            series,
+            log_x: true,
+            log_y: true,
+        }
+    }
+}

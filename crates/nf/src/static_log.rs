@@ -1,0 +1,187 @@
+//! Reading static gyro logs (`shared/recording-format.md`, `northfinder-static/1`): one row per
+//! sample, columns found by name, a malformed line named with its column. Where time jumps
+//! the log is split into contiguous segments, since an Allan variance across a gap would mix
+//! averaging times.
+
+use crate::textfile::{Error, Head, err, number, optional};
+use std::collections::BTreeMap;
+use std::ops::Range;
+
+pub const FORMAT: &str = "northfinder-static/1";
+
+/// A step longer than this times the median step is a gap.
+pub const GAP_FACTOR: f64 = 1.5;
+
+/// A jump in time between two samples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Gap {
+    /// Line of the first sample after the gap (0 when not read from a file).
+    pub line: usize,
+    pub from_s: f64,
+    pub to_s: f64,
+}
+
+/// How evenly a series is spaced: its median step and the runs between gaps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spacing {
+    pub step_s: f64,
+    pub segments: Vec<Range<usize>>,
+    pub gaps: Vec<Gap>,
+}
+
+impl Spacing {
+    /// Splits increasing times `t_s` (at least two) where a step exceeds `GAP_FACTOR` times the
+    /// median step; `lines` gives each sample's line for the report.
+    pub fn of(t_s: &[f64], lines: &[usize]) -> Spacing {
+        let mut steps: Vec<f64> = t_s.windows(2).map(|w| w[1] - w[0]).collect();
+        steps.sort_by(f64::total_cmp);
+        let step_s = steps[steps.len() / 2];
+        let (mut segments, mut gaps, mut start) = (Vec::new(), Vec::new(), 0);
+        for i in 1..t_s.len() {
+            if t_s[i] - t_s[i - 1] > GAP_FACTOR * step_s {
+                segments.push(start..i);
+                gaps.push(Gap {
+                    line: lines.get(i).copied().unwrap_or(0),
+                    from_s: t_s[i - 1],
+                    to_s: t_s[i],
+                });
+                start = i;
+            }
+        }
+        segments.push(start..t_s.len());
+        Spacing { step_s, segments, gaps }
+    }
+}
+
+/// A whole static log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticLog {
+    /// Every metadata key, known or not, as written.
+    pub meta: BTreeMap<String, String>,
+    pub t_s: Vec<f64>,
+    pub rate_dph: Vec<f64>,
+    /// Lowest and highest `temp_c`, when the log has that column.
+    pub temp_span_c: Option<(f64, f64)>,
+    pub spacing: Spacing,
+}
+
+impl StaticLog {
+    pub fn parse(text: &str) -> Result<StaticLog, Error> {
+        let head = Head::parse(text)?;
+        head.require_format(FORMAT)?;
+        head.require_columns(&["t_s", "rate_dph"])?;
+        let required = |name: &str| head.col(name).expect("required column");
+        let (ct, cr, ctemp) = (required("t_s"), required("rate_dph"), head.col("temp_c"));
+        let (mut t_s, mut rate_dph, mut lines) = (Vec::new(), Vec::new(), Vec::new());
+        let mut temp_span_c: Option<(f64, f64)> = None;
+        for row in head.rows(text) {
+            let (n, cells) = row?;
+            let t = number(n, "t_s", cells[ct])?;
+            let r = number(n, "rate_dph", cells[cr])?;
+            if let Some(&prev) = t_s.last()
+                && t <= prev
+            {
+                return err(
+                    n,
+                    format!(
+                        "t_s {t} is not after the previous sample's {prev} (line {}): samples must be in increasing time",
+                        lines.last().copied().unwrap_or(0)
+                    ),
+                );
+            }
+            if let Some(c) = ctemp
+                && let Some(v) = optional(n, "temp_c", cells[c])?
+            {
+                temp_span_c = Some(temp_span_c.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
+            }
+            t_s.push(t);
+            rate_dph.push(r);
+            lines.push(n);
+        }
+        if t_s.len() < 2 {
+            return err(0, format!("the log has {} samples: no time step to read", t_s.len()));
+        }
+        let spacing = Spacing::of(&t_s, &lines);
+        Ok(StaticLog {
+            meta: head.meta,
+            t_s,
+            rate_dph,
+            temp_span_c,
+            spacing,
+        })
+    }
+
+    /// The rates of each contiguous segment.
+    pub fn segments(&self) -> Vec<&[f64]> {
+        self.spacing
+            .segments
+            .iter()
+            .map(|r| &self.rate_dph[r.clone()])
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEAD: &str = "# format = northfinder-static/1\n# sample_rate_hz = 10\n";
+
+    #[test]
+    fn reads_columns_in_any_order_and_splits_at_gaps() {
+        let text =
+            format!("{HEAD}rate_dph,temp_c,t_s\n1.0,40.1,0.0\n2.0,,0.1\n3.0,40.3,0.2\n4.0,40.2,0.5\n5.0,40.2,0.6\n");
+        let log = StaticLog::parse(&text).unwrap();
+        assert_eq!(log.rate_dph, vec![1.0, 2.0, 3.0, 4.0, 5.0]);
+        assert_eq!(log.temp_span_c, Some((40.1, 40.3)));
+        assert!((log.spacing.step_s - 0.1).abs() < 1e-12);
+        assert_eq!(log.spacing.segments, vec![0..3, 3..5]);
+        assert_eq!(log.spacing.gaps[0].line, 7);
+        assert_eq!(log.segments()[1], &[4.0, 5.0]);
+        assert_eq!(log.meta["sample_rate_hz"], "10");
+    }
+
+    #[test]
+    fn every_bad_log_names_the_line_and_the_column() {
+        let cases: &[(&str, usize, &str)] = &[
+            ("t_s,rate_dph\n0,1\n", 0, "'format' is missing"),
+            (
+                "# format = northfinder-recording/1\nt_s,rate_dph\n0,1\n",
+                0,
+                "not supported",
+            ),
+            (
+                "# format = northfinder-static/1\nt_s,rate\n0,1\n",
+                2,
+                "'rate_dph' is missing",
+            ),
+            (
+                "# format = northfinder-static/1\nt_s,rate_dph\n0,1\n1,x\n",
+                4,
+                "rate_dph 'x'",
+            ),
+            (
+                "# format = northfinder-static/1\nt_s,rate_dph\n0,1\n1,inf\n",
+                4,
+                "rate_dph 'inf'",
+            ),
+            (
+                "# format = northfinder-static/1\nt_s,rate_dph\n0,1\n1,2\n1,3\n",
+                5,
+                "not after",
+            ),
+            ("# format = northfinder-static/1\nt_s,rate_dph\n0,1\n1\n", 4, "1 fields"),
+            ("# format = northfinder-static/1\nt_s,rate_dph\n0,1\n", 0, "1 samples"),
+            (
+                "# format = northfinder-static/1\nt_s,rate_dph,temp_c\n0,1,x\n",
+                3,
+                "temp_c 'x'",
+            ),
+        ];
+        for (text, line, what) in cases {
+            let e = StaticLog::parse(text).unwrap_err();
+            assert_eq!(e.line, *line, "{text}: {e}");
+            assert!(e.to_string().contains(what), "{text}: {e}");
+        }
+    }
+}

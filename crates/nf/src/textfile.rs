@@ -1,0 +1,205 @@
+//! What the project's CSV files share (recordings, static logs): errors that name the line,
+//! leading `# key = value` metadata, and a header whose columns are found by name.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// What is wrong, and on which line (0 when it is about the whole file).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Error {
+    pub line: usize,
+    pub what: String,
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}", self.what)
+        } else {
+            write!(f, "line {}: {}", self.line, self.what)
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+impl Error {
+    /// `file:line: what`, the form compilers use, for messages about a named file.
+    pub fn at(&self, path: &str) -> String {
+        if self.line == 0 {
+            format!("{path}: {}", self.what)
+        } else {
+            format!("{path}:{}: {}", self.line, self.what)
+        }
+    }
+}
+
+pub fn err<T>(line: usize, what: impl Into<String>) -> Result<T, Error> {
+    Err(Error {
+        line,
+        what: what.into(),
+    })
+}
+
+pub fn unquote(s: &str) -> &str {
+    let s = s.trim();
+    s.strip_prefix('"')
+        .and_then(|s| s.strip_suffix('"'))
+        .unwrap_or(s)
+        .trim()
+}
+
+/// The metadata and the header line of a CSV file.
+#[derive(Debug, Clone)]
+pub struct Head<'a> {
+    /// Every metadata key, known or not, as written.
+    pub meta: BTreeMap<String, String>,
+    /// Line number of the header (from 1).
+    pub line: usize,
+    pub header: &'a str,
+    pub names: Vec<&'a str>,
+    col: BTreeMap<&'a str, usize>,
+}
+
+impl<'a> Head<'a> {
+    pub fn parse(text: &'a str) -> Result<Head<'a>, Error> {
+        let mut meta = BTreeMap::new();
+        for (i, l) in text.lines().enumerate() {
+            let (n, t) = (i + 1, l.trim());
+            if t.is_empty() {
+                continue;
+            }
+            let Some(m) = t.strip_prefix('#') else {
+                return Head::header(meta, n, t);
+            };
+            let Some((k, v)) = m.split_once('=') else {
+                return err(
+                    n,
+                    format!("metadata line without '=': '{t}' (expected '# key = value')"),
+                );
+            };
+            let (k, v) = (k.trim().to_string(), v.trim().to_string());
+            if k.is_empty() {
+                return err(n, "metadata line with an empty key");
+            }
+            if meta.insert(k.clone(), v).is_some() {
+                return err(n, format!("metadata key '{k}' given twice"));
+            }
+        }
+        err(0, "no header line: the file ends before the column names")
+    }
+
+    fn header(meta: BTreeMap<String, String>, line: usize, header: &'a str) -> Result<Head<'a>, Error> {
+        let names: Vec<&str> = header.split(',').map(unquote).collect();
+        let mut col = BTreeMap::new();
+        for (i, name) in names.iter().enumerate() {
+            if !name.is_empty() && col.insert(*name, i).is_some() {
+                return err(line, format!("column '{name}' appears twice"));
+            }
+        }
+        Ok(Head {
+            meta,
+            line,
+            header,
+            names,
+            col,
+        })
+    }
+
+    /// The `format` metadata must be `want`.
+    pub fn require_format(&self, want: &str) -> Result<(), Error> {
+        match self.meta.get("format").map(String::as_str) {
+            None => err(
+                0,
+                format!("required metadata 'format' is missing (expected 'format = {want}')"),
+            ),
+            Some(f) if f == want => Ok(()),
+            Some(f) => err(0, format!("format '{f}' is not supported (this reader knows {want})")),
+        }
+    }
+
+    pub fn require_columns(&self, names: &[&str]) -> Result<(), Error> {
+        match names.iter().find(|c| !self.col.contains_key(**c)) {
+            Some(c) => err(
+                self.line,
+                format!("required column '{c}' is missing (header: '{}')", self.header),
+            ),
+            None => Ok(()),
+        }
+    }
+
+    /// Index of a column.
+    pub fn col(&self, name: &str) -> Option<usize> {
+        self.col.get(name).copied()
+    }
+
+    /// The data lines after the header as `(line number, cells)`; blank and `#` lines skipped.
+    pub fn rows(&self, text: &'a str) -> impl Iterator<Item = Result<(usize, Vec<&'a str>), Error>> {
+        let width = self.names.len();
+        text.lines()
+            .enumerate()
+            .skip(self.line)
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, t)| !t.is_empty() && !t.starts_with('#'))
+            .map(move |(n, t)| {
+                let cells: Vec<&str> = t.split(',').map(unquote).collect();
+                if cells.len() == width {
+                    Ok((n, cells))
+                } else {
+                    err(n, format!("{} fields, the header has {width}", cells.len()))
+                }
+            })
+    }
+}
+
+/// A required cell as a finite number; the error names the line and the column.
+pub fn number(line: usize, name: &str, v: &str) -> Result<f64, Error> {
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ if v.is_empty() => err(line, format!("{name} is empty")),
+        _ => err(line, format!("{name} '{v}' is not a finite number")),
+    }
+}
+
+/// An optional cell: empty, `nan` or `na` is a missing value.
+pub fn optional(line: usize, name: &str, v: &str) -> Result<Option<f64>, Error> {
+    if v.is_empty() || v.eq_ignore_ascii_case("nan") || v.eq_ignore_ascii_case("na") {
+        return Ok(None);
+    }
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(Some(x)),
+        _ => err(line, format!("{name} '{v}' is not a number")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn head_reads_metadata_and_finds_columns() {
+        let text = "# format = x/1\n\n# a = b = c\n\"t_s\",rate_dph\n1,2\n# note\n3,4,5\n";
+        let h = Head::parse(text).unwrap();
+        assert_eq!((h.line, h.meta["a"].as_str()), (4, "b = c"));
+        assert_eq!((h.col("rate_dph"), h.col("temp_c")), (Some(1), None));
+        assert!(h.require_format("x/1").is_ok() && h.require_format("y/1").is_err());
+        let rows: Vec<_> = h.rows(text).collect();
+        assert_eq!(rows[0], Ok((5, vec!["1", "2"])));
+        assert_eq!(rows[1].as_ref().unwrap_err().line, 7);
+        assert_eq!(h.require_columns(&["t_s", "q"]).unwrap_err().line, 4);
+        assert_eq!(Head::parse("# a = 1\n# a = 2\nx\n").unwrap_err().line, 2);
+        assert_eq!(
+            number(3, "t_s", "inf").unwrap_err().to_string(),
+            "line 3: t_s 'inf' is not a finite number"
+        );
+        assert_eq!(optional(3, "temp_c", "NaN"), Ok(None));
+        assert_eq!(
+            Error {
+                line: 2,
+                what: "bad".into()
+            }
+            .at("f.csv"),
+            "f.csv:2: bad"
+        );
+    }
+}

@@ -1,0 +1,262 @@
+//! `nf allan`: the noise terms recovered from twin static logs over seeds, the overlapping
+//! Allan deviation against allantools, the command line with its noise-file round trip, and
+//! bad inputs.
+
+use nf::allan::oavar;
+use nf::allan_fit::{AllanFit, Term, fit_series};
+use nf::allan_model::Sampling;
+use nf::static_log::StaticLog;
+use nf_model::noise::NoiseModel;
+use std::process::Command;
+
+fn twin_log(noise: NoiseModel, hz: f64, hours: f64, seed: u64) -> nf_twin::StaticLog {
+    nf_twin::StaticLog {
+        noise,
+        rate_dph: 7.3,
+        sample_rate_hz: hz,
+        duration_s: hours * 3600.0,
+        seed,
+    }
+}
+
+fn fit_twin(noise: NoiseModel, hz: f64, hours: f64, seed: u64) -> (Vec<nf::allan::Point>, AllanFit) {
+    let mut y = Vec::new();
+    twin_log(noise, hz, hours, seed).samples(|_, r| y.push(r));
+    fit_series(&[&y], Sampling::contiguous(1.0 / hz)).unwrap()
+}
+
+#[test]
+fn recovers_n_b_and_k_from_twin_logs_over_seeds() {
+    // Allan floor near 200 s; 4 h at 10 Hz reach 1640 s, where K dominates.
+    let truth = NoiseModel {
+        arw_deg_rth: 0.002,
+        bias_instability_dph: 0.02,
+        rrw_dph_rth: 0.05,
+        ..NoiseModel::WHITE_NONE
+    };
+    let (mut inside, mut total) = (0, 0);
+    for seed in 1..=6 {
+        let (points, f) = fit_twin(truth, 10.0, 4.0, seed);
+        let p = |t| f.param(t).unwrap();
+        let (n, b, k) = (p(Term::Arw), p(Term::BiasInstability), p(Term::Rrw));
+        println!(
+            "seed {seed}: N {:.6} +- {:.6}, B {:.4} +- {:.4}, K {:.4} +- {:.4}, chi2/dof {:.2}",
+            n.value,
+            n.sigma,
+            b.value,
+            b.sigma,
+            k.value,
+            k.sigma,
+            f.chi2 / f.dof as f64
+        );
+        assert!((n.value / 0.002 - 1.0).abs() < 0.1, "seed {seed}: N {n:?}");
+        assert!((b.value - 0.02).abs() < 3.0 * b.sigma, "seed {seed}: B {b:?}");
+        assert!((k.value - 0.05).abs() < 3.0 * k.sigma, "seed {seed}: K {k:?}");
+        assert!(f.gm().is_none() && f.chi2 / (f.dof as f64) < 3.0, "seed {seed}: {f:?}");
+        // The true deviation against each point's 68 % interval.
+        for (pt, edf) in points.iter().zip(&f.edf) {
+            let (lo, hi) = nf::allan::adev_interval(pt.avar, *edf);
+            inside += usize::from((lo..=hi).contains(&truth.allan_dev(pt.tau_s)));
+            total += 1;
+        }
+    }
+    let coverage = inside as f64 / total as f64;
+    println!("68 % intervals holding the true deviation: {inside} of {total}");
+    assert!((0.5..0.85).contains(&coverage), "{coverage}");
+}
+
+#[test]
+fn white_noise_alone_leaves_b_and_k_consistent_with_zero() {
+    let truth = NoiseModel {
+        arw_deg_rth: 0.003,
+        ..NoiseModel::WHITE_NONE
+    };
+    for seed in 1..=5 {
+        let (_, f) = fit_twin(truth, 10.0, 2.0, seed);
+        let p = |t| f.param(t).unwrap();
+        let (n, b, k) = (p(Term::Arw), p(Term::BiasInstability), p(Term::Rrw));
+        println!(
+            "seed {seed}: N {:.6}, B {:.5} (< {:.5}), K {:.5} (< {:.5})",
+            n.value,
+            b.value,
+            b.value + b.sigma,
+            k.value,
+            k.value + k.sigma
+        );
+        assert!((n.value / 0.003 - 1.0).abs() < 0.05, "seed {seed}: {n:?}");
+        assert!(
+            b.consistent_with_zero(3.0) && k.consistent_with_zero(3.0),
+            "seed {seed}: {f:?}"
+        );
+        assert!(
+            f.gm().is_none() && f.model.quantization_arcsec == 0.0,
+            "seed {seed}: {f:?}"
+        );
+    }
+}
+
+#[test]
+fn overlapping_adev_matches_allantools() {
+    // tests/fixtures/oadev_fixture.py wrote both files (allantools 2024.6 oadev, octave taus).
+    let log = StaticLog::parse(include_str!("fixtures/oadev_input.csv")).unwrap();
+    let expected: Vec<(usize, f64, f64, usize)> = include_str!("fixtures/oadev_expected.csv")
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('m'))
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            (
+                c[0].parse().unwrap(),
+                c[1].parse().unwrap(),
+                c[2].parse().unwrap(),
+                c[3].parse().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(expected.len(), 10);
+    let ms: Vec<usize> = expected.iter().map(|e| e.0).collect();
+    let points = oavar(&log.segments(), log.spacing.step_s, &ms);
+    for (p, (m, tau, adev, n)) in points.iter().zip(&expected) {
+        assert_eq!((p.m, p.terms), (*m, *n));
+        assert!((p.tau_s / tau - 1.0).abs() < 1e-9, "{m}");
+        assert!(
+            (p.avar.sqrt() / adev - 1.0).abs() < 1e-9,
+            "m {m}: {} vs {adev}",
+            p.avar.sqrt()
+        );
+    }
+}
+
+fn nf(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_nf")).args(args).output().unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+fn tmp(name: &str) -> String {
+    let d = std::env::temp_dir().join(format!("nf-allan-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name).to_string_lossy().into_owned()
+}
+
+#[test]
+fn cli_json_plot_and_the_noise_file_round_trip() {
+    let truth = NoiseModel {
+        arw_deg_rth: 0.002,
+        bias_instability_dph: 0.02,
+        ..NoiseModel::WHITE_NONE
+    };
+    let log = tmp("static.csv");
+    twin_log(truth, 10.0, 1.0, 3)
+        .write(&mut std::fs::File::create(&log).unwrap())
+        .unwrap();
+    let (noise, svg) = (tmp("fitted.noise"), tmp("allan.svg"));
+    let (code, out, err) = nf(&["allan", &log, "--json", "--out", &noise, "--plot", &svg]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in ["arw_deg_rth", "bias_instability_dph", "rrw_dph_rth", "fit_chi2_per_dof"] {
+        assert!(j[key].is_f64(), "{key}");
+    }
+    for key in ["arw_deg_rth_sigma", "bias_instability_dph_sigma", "rrw_dph_rth_sigma"] {
+        assert!(j[key].as_f64().unwrap() > 0.0, "{key}");
+    }
+    assert_eq!(j["source"]["kind"], "static_log");
+    assert_eq!(
+        (j["source"]["samples"].as_u64(), j["source"]["segments"].as_u64()),
+        (Some(36000), Some(1))
+    );
+    let c = &j["curve"][0];
+    for key in ["tau_s", "adev_dph", "lo_dph", "hi_dph", "clusters"] {
+        assert!(c[key].is_number(), "{key}");
+    }
+    assert!(c["lo_dph"].as_f64() < c["adev_dph"].as_f64() && c["adev_dph"].as_f64() < c["hi_dph"].as_f64());
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    // The noise file, and the JSON itself, read back as the same model.
+    let fitted = nf::noise_file::read(&noise).unwrap();
+    assert_eq!(fitted.arw_deg_rth, j["arw_deg_rth"].as_f64().unwrap());
+    let json_file = tmp("allan.json");
+    std::fs::write(&json_file, &out).unwrap();
+    assert_eq!(nf::noise_file::read(&json_file).unwrap(), fitted);
+    // Into the twin and the fit.
+    let rec = tmp("rec.csv");
+    let (code, _, err) = nf(&["simulate", "--noise", &noise, "--n", "12", "--dwell", "1", "-o", &rec]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = nf(&["fit", &rec, "--noise", &json_file, "--rrw", "0.01", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let f: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(f["noise_model"]["arw_deg_rth"].as_f64().unwrap(), fitted.arw_deg_rth);
+    assert_eq!(f["noise_model"]["rrw_dph_rth"].as_f64().unwrap(), 0.01);
+    assert!(f["noise_model"]["source"].as_str().unwrap().contains("--noise"));
+    // A recording goes in too: its dwell means.
+    let long = tmp("long.csv");
+    let (code, _, err) = nf(&["simulate", "--n", "96", "--dwell", "1", "--seed", "4", "-o", &long]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = nf(&["allan", &long]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("recording") && out.contains("N (angle random walk)") && out.contains("floor"),
+        "{out}"
+    );
+}
+
+/// Exit code 2, nothing on stdout, and the message names the place.
+fn refused(args: &[&str], place: &str, what: &str) {
+    let (code, out, err) = nf(args);
+    assert_eq!(code, 2, "{args:?}: {err}");
+    assert!(out.is_empty(), "{args:?}: {out}");
+    assert!(err.contains(place) && err.contains(what), "{args:?}: {err}");
+}
+
+#[test]
+fn bad_inputs_exit_2_and_say_where() {
+    let head = "# format = northfinder-static/1\n";
+    let rows: String = (0..100)
+        .map(|i| format!("{},{}\n", i as f64 * 0.1, (i % 7) as f64))
+        .collect();
+    let write = |name: &str, text: &str| {
+        let p = tmp(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let bad_number = write("bad-number.csv", &format!("{head}t_s,rate_dph\n{rows}10.0,abc\n"));
+    refused(&["allan", &bad_number], "bad-number.csv:103:", "rate_dph 'abc'");
+    let no_column = write("no-column.csv", &format!("{head}t_s,rate\n{rows}"));
+    refused(&["allan", &no_column], "no-column.csv:2:", "'rate_dph' is missing");
+    let backwards = write("backwards.csv", &format!("{head}t_s,rate_dph\n{rows}5.0,1\n"));
+    refused(&["allan", &backwards], "backwards.csv:103:", "not after");
+    let few: String = rows.lines().take(40).map(|l| format!("{l}\n")).collect();
+    let short = write("short.csv", &format!("{head}t_s,rate_dph\n{few}"));
+    refused(&["allan", &short], "short.csv:", "too short for an Allan fit");
+    let no_format = write("no-format.csv", &format!("t_s,rate_dph\n{rows}"));
+    refused(&["allan", &no_format], "no-format.csv:", "no 'format' metadata");
+    let good = write("good.csv", &format!("{head}t_s,rate_dph\n{rows}"));
+    refused(&["allan", &good, "--plot", &tmp("x.gif")], "x.gif", "*.svg or *.png");
+    // Noise files: malformed, unknown, negative, non-finite.
+    let rec = write(
+        "rec.csv",
+        "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,2\n2,3,180,1\n3,4,270,0\n",
+    );
+    for (name, text, place, what) in [
+        ("garbled.noise", "arw_deg_rth 0.1\n", ":1:", "not 'key = value'"),
+        (
+            "unknown.noise",
+            "arw_deg_rth = 0.1\nbias = 2\n",
+            ":2:",
+            "unknown key 'bias'",
+        ),
+        ("negative.noise", "# K\nrrw_dph_rth = -0.5\n", ":2:", "negative"),
+        ("infinite.noise", "gm_sigma_dph = inf\n", ":1:", "not a finite number"),
+        ("gm.noise", "arw_deg_rth = 0.1\ngm_sigma_dph = 0.1\n", ":2:", "gm_tau_s"),
+    ] {
+        let p = write(name, text);
+        refused(&["simulate", "--noise", &p], &format!("{name}{place}"), what);
+        refused(&["fit", &rec, "--noise", &p], &format!("{name}{place}"), what);
+    }
+    refused(
+        &["simulate", "--noise", &tmp("missing.noise")],
+        "missing.noise",
+        "cannot read",
+    );
+}
