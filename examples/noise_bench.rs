@@ -5,7 +5,8 @@
 //! knows the true noise model; the bias a linear drift leaves in each order; and the time to
 //! 18" for the paper's gyro with flicker on a fast motor.
 //!
-//! `cargo run --release --example noise_bench -- [seeds]` (default 60).
+//! `cargo run --release --example noise_bench -- [seeds] [filter]` (default 60 seeds; a filter
+//! keeps the noise-table rows whose noise or order name contains it, and skips the rest).
 
 use nf::analysis::{Options, analyse};
 use nf::noise_fit::NoiseChoice;
@@ -53,12 +54,15 @@ fn run_config(order: Order) -> RunConfig {
 
 fn main() {
     let seeds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(60);
-    noise_table(seeds);
-    drift_table();
-    time_to_18();
+    let filter = std::env::args().nth(2);
+    noise_table(seeds, filter.as_deref());
+    if filter.is_none() {
+        drift_table();
+        time_to_18();
+    }
 }
 
-fn noise_table(seeds: u64) {
+fn noise_table(seeds: u64, filter: Option<&str>) {
     let white = NoiseModel::white(SW, 2.0);
     let cases = [
         ("white", white),
@@ -99,6 +103,10 @@ fn noise_table(seeds: u64) {
     );
     for (name, noise) in cases {
         for order in Order::NAMED {
+            let row = format!("{name} {}", order.name());
+            if filter.is_some_and(|f| !row.contains(f)) {
+                continue;
+            }
             let (est, ols, known) = noise_case(noise, order, seeds);
             println!(
                 "{name:<42} {:<18} {:>16} {:>16} {:>16}",
