@@ -3,8 +3,7 @@
 //! `nf-instrument`'s drivers.
 
 use crate::board::{self, GyroThermometer};
-use core::cell::Cell;
-use core::fmt::Write as _;
+use core::cell::{Cell, RefCell};
 use core::sync::atomic::{AtomicBool, Ordering};
 use defmt::{error, info, warn};
 use embassy_executor::Spawner;
@@ -12,7 +11,7 @@ use embassy_stm32::exti::ExtiInput;
 use embassy_stm32::gpio::Output;
 use embassy_stm32::mode::Async;
 use embassy_stm32::spi::{self, Spi};
-use embassy_stm32::usart::{UartRx, UartTx};
+use embassy_stm32::usart::{RingBufferedUartRx, UartTx};
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
@@ -24,10 +23,11 @@ use nf_instrument::adc::{AdcError, Ads1256};
 use nf_instrument::clock::Clock;
 use nf_instrument::encoder::{self, BissEncoder};
 use nf_instrument::inclinometer::Inclinometer;
-use nf_instrument::link::{self, Command};
-use nf_instrument::record::{MAX_LINE, write_fixed};
-use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, RunReport, Sink};
+use nf_instrument::record::MAX_LINE;
+use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, Sink};
+use nf_instrument::session::{Action, LineAssembler, Session};
 use nf_instrument::stepper::{self, StepDir};
+use static_cell::ConstStaticCell;
 use {defmt_rtt as _, panic_probe as _};
 
 type Line = String<MAX_LINE>;
@@ -39,9 +39,9 @@ static SAMPLES: Channel<M, Result<i32, AdcError>, 256> = Channel::new();
 static TX: Channel<M, Line, 8> = Channel::new();
 static START: Signal<M, ()> = Signal::new();
 static ABORT: AtomicBool = AtomicBool::new(false);
-static RUNNING: AtomicBool = AtomicBool::new(false);
+/// The host link's settings and state; the run's configuration as START took it.
+static SESSION: Mutex<M, RefCell<Session>> = Mutex::new(RefCell::new(Session::new(RunConfig::DEFAULT)));
 static CONFIG: Mutex<M, Cell<RunConfig>> = Mutex::new(Cell::new(RunConfig::DEFAULT));
-static LAST: Mutex<M, Cell<Option<RunReport>>> = Mutex::new(Cell::new(None));
 
 /// embassy-time as the run logic's clock.
 #[derive(Clone, Copy)]
@@ -110,129 +110,41 @@ async fn link_tx_task(mut tx: UartTx<'static, Async>) {
     }
 }
 
-async fn reply(s: &str) {
-    let mut l = Line::new();
-    let _ = l.push_str(s);
-    TX.send(l).await;
-}
-
-fn status_line() -> Line {
-    let mut l = Line::new();
-    let running = RUNNING.load(Ordering::Relaxed);
-    let _ = write!(l, "STATUS {}", if running { "running" } else { "idle" });
-    if let Some(r) = LAST.lock(|c| c.get()) {
-        let _ = write!(l, " last: {} positions", r.positions);
-        if let Some(a) = r.azimuth {
-            let _ = l.push_str(" psi ");
-            let _ = write_fixed(&mut l, a.psi_deg as f64, 5);
-            let _ = l.push_str(" sigma_arcsec ");
-            let _ = write_fixed(&mut l, a.sigma_arcsec as f64, 2);
-        }
-        if let Some(u) = r.under_noise {
-            let _ = l.push_str(" under_noise_sigma_arcsec ");
-            let _ = write_fixed(&mut l, u.sigma_psi_deg * 3600.0, 2);
-        }
-        if r.target_reached {
-            let _ = l.push_str(" target_reached");
-        }
-        let _ = l.push_str(if r.result.is_ok() { " ok" } else { " failed" });
-    }
-    l
-}
-
+/// Bytes from the host: the ring buffer keeps filling by DMA while the task works.
 #[embassy_executor::task]
-async fn link_rx_task(mut rx: UartRx<'static, Async>) {
-    let mut line = String::<80>::new();
+async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
+    let mut lines = LineAssembler::default();
+    let mut chunk = [0u8; 32];
     loop {
-        let mut b = [0u8; 1];
-        if rx.read(&mut b).await.is_err() {
-            warn!("host link: receive error, line dropped");
-            line.clear();
-            continue;
-        }
-        match b[0] {
-            b'\n' | b'\r' => {
-                if line.is_empty() {
-                    continue;
-                }
-                match link::parse(&line) {
-                    Ok(cmd) => handle(cmd).await,
-                    Err(e) => {
-                        let mut l = Line::new();
-                        let _ = write!(l, "ERR {e}");
-                        TX.send(l).await;
-                    }
-                }
-                line.clear();
+        let n = match rx.read(&mut chunk).await {
+            Ok(n) => n,
+            Err(e) => {
+                warn!("host link: receive error {:?}, partial line dropped", e);
+                lines.reset();
+                continue;
             }
-            c => {
-                if line.push(c as char).is_err() {
-                    line.clear();
-                    reply("ERR line too long").await;
+        };
+        for &b in &chunk[..n] {
+            let Some(event) = lines.push(b) else { continue };
+            let (action, reply) = SESSION.lock(|s| {
+                let mut s = s.borrow_mut();
+                let r = s.handle(event);
+                if r.0 == Action::Start {
+                    CONFIG.lock(|c| c.set(s.cfg));
                 }
-            }
-        }
-    }
-}
-
-async fn handle(cmd: Command) {
-    let running = RUNNING.load(Ordering::Relaxed);
-    match cmd {
-        Command::Set(_) | Command::Start if running => reply("ERR a run is in progress").await,
-        Command::Set(s) => {
-            let r = CONFIG.lock(|c| {
-                let mut cfg = c.get();
-                let r = link::apply(&mut cfg, s);
-                c.set(cfg);
                 r
             });
-            match r {
-                Ok(()) => reply("OK").await,
-                Err(e) => {
-                    let mut l = Line::new();
-                    let _ = write!(l, "ERR {e}");
-                    TX.send(l).await;
+            match action {
+                Action::Start => {
+                    ABORT.store(false, Ordering::Relaxed);
+                    START.signal(());
                 }
+                Action::Abort => ABORT.store(true, Ordering::Relaxed),
+                Action::None => {}
             }
-        }
-        Command::Start => {
-            ABORT.store(false, Ordering::Relaxed);
-            START.signal(());
-            reply("OK").await;
-        }
-        Command::Abort => {
-            ABORT.store(true, Ordering::Relaxed);
-            reply("OK").await;
-        }
-        Command::Status => TX.send(status_line()).await,
-        Command::Config => {
-            let c = CONFIG.lock(|c| c.get());
-            let mut l = Line::new();
-            let _ = write!(
-                l,
-                "CONFIG n {} order {} dwell_ms {} settle_ms {} lat ",
-                c.positions,
-                c.order.name(),
-                c.dwell_ms,
-                c.settle_ms
-            );
-            let _ = write_fixed(&mut l, c.latitude_deg as f64, 5);
-            let _ = l.push_str(" tilt_limit ");
-            let _ = write_fixed(&mut l, c.tilt_limit_deg as f64, 4);
-            let _ = l.push_str(" target_arcsec ");
-            let _ = write_fixed(&mut l, c.target_arcsec as f64, 2);
-            let m = c.noise;
-            for (key, v, decimals) in [
-                (" arw ", m.arw_deg_rth, 7),
-                (" bias_instability ", m.bias_instability_dph, 6),
-                (" rrw ", m.rrw_dph_rth, 6),
-                (" gm_sigma ", m.gm_sigma_dph, 6),
-                (" gm_tau ", m.gm_tau_s, 2),
-            ] {
-                let _ = l.push_str(key);
-                let _ = write_fixed(&mut l, v, decimals);
+            for l in reply {
+                TX.send(l).await;
             }
-            TX.send(l).await;
         }
     }
 }
@@ -253,11 +165,15 @@ async fn sequencer_task(mut hw: Hw) {
         info!("sequencer: idle, waiting for START");
         START.wait().await;
         let cfg = CONFIG.lock(|c| c.get());
-        RUNNING.store(true, Ordering::Relaxed);
         let report = run::run(&mut hw, &cfg, &mut HostSink).await;
-        RUNNING.store(false, Ordering::Relaxed);
-        LAST.lock(|c| c.set(Some(report)));
-        TX.send(status_line()).await;
+        let status = SESSION.lock(|s| {
+            let mut s = s.borrow_mut();
+            s.finished(report);
+            s.status()
+        });
+        for l in status {
+            TX.send(l).await;
+        }
     }
 }
 
@@ -267,6 +183,8 @@ async fn main(spawner: Spawner) {
     info!("north finder firmware {=str}", env!("CARGO_PKG_VERSION"));
     let b = board::init(p);
     let (host_tx, host_rx) = b.host.split();
+    static HOST_RX: ConstStaticCell<[u8; 256]> = ConstStaticCell::new([0; 256]);
+    let host_rx = host_rx.into_ring_buffered(HOST_RX.take());
     // Infallible: the CS pin cannot fail.
     let adc_dev = ExclusiveDevice::new(b.adc_spi, b.adc_cs, Delay).unwrap();
     let hw = Instrument {

@@ -203,6 +203,39 @@ fn abort_keeps_what_was_measured() {
 }
 
 #[test]
+fn abort_ends_the_run_within_100_ms_at_every_stage() {
+    let (twin, run) = short();
+    let run = RunConfig {
+        positions: 6,
+        settle_ms: 1500,
+        ..run
+    };
+    let (_, world) = simulate(&twin, &run, &mut Recorder::default());
+    let total_us = (world.t_s() * 1e6) as u64;
+    let mut stages = std::collections::BTreeSet::new();
+    for abort_at_us in (0..total_us).step_by(173_000) {
+        let mut rec = Recorder {
+            abort_at_us: Some(abort_at_us),
+            ..Default::default()
+        };
+        let (report, world) = simulate(&twin, &run, &mut rec);
+        let e = report.result.unwrap_err();
+        assert_eq!(e.fault, Fault::Aborted, "abort at {abort_at_us} us");
+        let late_s = world.t_s() - abort_at_us as f64 * 1e-6;
+        assert!(
+            late_s <= 0.1,
+            "abort at {abort_at_us} us in {:?}: ended {late_s} s later",
+            e.stage
+        );
+        stages.insert(format!("{:?}", e.stage));
+    }
+    assert!(
+        stages.contains("Levelling") && stages.contains("Position(5)"),
+        "{stages:?}"
+    );
+}
+
+#[test]
 fn the_recording_follows_the_documented_format() {
     let (twin, run) = short();
     let (_, rec) = go(&twin, &run);

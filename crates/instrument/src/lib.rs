@@ -17,6 +17,7 @@ pub mod inclinometer;
 pub mod link;
 pub mod record;
 pub mod run;
+pub mod session;
 pub mod stepper;
 
 #[cfg(test)]

@@ -59,6 +59,10 @@ pub enum TiltPolicy {
     Warn,
 }
 
+/// How often a run looks for an abort while it settles, dwells and moves (the host link's
+/// promise: an abort ends the run within 100 ms).
+pub const ABORT_CHECKS_PER_S: u32 = 20;
+
 /// Settings of a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -262,6 +266,18 @@ where
         r.map_err(|e| self.err(Fault::Inclinometer(e)))
     }
 
+    /// Waits the settling time, answering an abort within [`ABORT_CHECKS_PER_S`].
+    async fn settle(&mut self) -> Result<(), RunError> {
+        let mut left_us = self.cfg.settle_ms as u64 * 1000;
+        while left_us > 0 {
+            self.check_abort()?;
+            let step = left_us.min(1_000_000 / ABORT_CHECKS_PER_S as u64);
+            self.hw.clock.delay_us(step).await;
+            left_us -= step;
+        }
+        self.check_abort()
+    }
+
     fn check_abort(&mut self) -> Result<(), RunError> {
         if self.sink.abort_requested() {
             Err(self.err(Fault::Aborted))
@@ -284,11 +300,17 @@ where
             if attempt > 0 {
                 debug!("move: correction {} of {} steps", attempt, steps);
             }
-            self.hw
+            let sink = &mut *self.sink;
+            let moved = self
+                .hw
                 .motor
-                .move_steps(steps as i32)
-                .await
-                .map_err(|e| self.err(Fault::Motor(e)))?;
+                .move_steps(steps as i32, &mut || sink.abort_requested())
+                .await;
+            match moved {
+                Ok(()) => {}
+                Err(MotorError::Stopped) => return Err(self.err(Fault::Aborted)),
+                Err(e) => return Err(self.err(Fault::Motor(e))),
+            }
             let new = self.encoder().await?;
             let expected = steps * self.per_turn / spr;
             // How far the encoder fell short of the commanded move (wrap-safe for half turns).
@@ -321,7 +343,7 @@ where
         }; 2];
         for (i, half) in [0, self.per_turn / 2].into_iter().enumerate() {
             let at = self.move_to(half).await?;
-            self.hw.clock.delay_us(self.cfg.settle_ms as u64 * 1000).await;
+            self.settle().await?;
             let (x, y) = self.tilt().await?;
             readings[i] = TiltReading {
                 gamma_deg: (at as f64 * 360.0 / self.per_turn as f64) as f32,
@@ -362,6 +384,7 @@ where
         let expected = (cfg.dwell_ms as u64 * cfg.sample_rate_hz as u64 / 1000) as u32;
         let period_us = 1_000_000 / cfg.sample_rate_hz.max(1) as u64;
         let mut acc = DwellAccumulator::new(expected);
+        let abort_every = (cfg.sample_rate_hz / ABORT_CHECKS_PER_S).max(1);
         // The encoder is read ten times over the dwell and averaged.
         let enc_every = (expected / 10).max(1);
         let (mut enc_sum, mut enc_n) = (0i64, 0i64);
@@ -389,7 +412,7 @@ where
                 tilt = self.tilt().await?;
                 temp = self.hw.thermometer.read_c().ok_or(self.err(Fault::Thermometer))?;
             }
-            if i % 256 == 0 {
+            if i % abort_every == 0 {
                 self.check_abort()?;
             }
         }
@@ -546,7 +569,7 @@ where
             let p = cfg.order.position(cfg.positions, k) as i64;
             let target = (p * per_turn + cfg.positions as i64 / 2) / cfg.positions as i64;
             ctx.move_to(target).await?;
-            ctx.hw.clock.delay_us(cfg.settle_ms as u64 * 1000).await;
+            ctx.settle().await?;
             let rec = ctx.dwell(k, target, t0).await?;
             ctx.sink.line(&rec.line()).await;
             report.positions = k + 1;

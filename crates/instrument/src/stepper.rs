@@ -10,7 +10,12 @@ use nf_model::Float;
 pub enum MotorError {
     /// A step or direction pin could not be driven.
     Pin,
+    /// The move was stopped on request.
+    Stopped,
 }
+
+/// How often a move asks whether to stop, microseconds of stepping.
+const STOP_CHECK_US: u32 = 20_000;
 
 /// The motor and its profile.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,7 +58,9 @@ impl Config {
 
 /// Something that turns the shaft by a number of steps (positive: counter-clockwise).
 pub trait Motor {
-    async fn move_steps(&mut self, steps: i32) -> Result<(), MotorError>;
+    /// Moves, asking `stop` between steps: when it says so, the motor stops at once and
+    /// returns [`MotorError::Stopped`].
+    async fn move_steps(&mut self, steps: i32, stop: &mut dyn FnMut() -> bool) -> Result<(), MotorError>;
     fn steps_per_rev(&self) -> u32;
 }
 
@@ -72,7 +79,7 @@ impl<STEP: OutputPin, DIR: OutputPin, C: Clock> StepDir<STEP, DIR, C> {
 }
 
 impl<STEP: OutputPin, DIR: OutputPin, C: Clock> Motor for StepDir<STEP, DIR, C> {
-    async fn move_steps(&mut self, steps: i32) -> Result<(), MotorError> {
+    async fn move_steps(&mut self, steps: i32, stop: &mut dyn FnMut() -> bool) -> Result<(), MotorError> {
         if steps >= 0 {
             self.dir.set_high()
         } else {
@@ -80,7 +87,15 @@ impl<STEP: OutputPin, DIR: OutputPin, C: Clock> Motor for StepDir<STEP, DIR, C> 
         }
         .map_err(|_| MotorError::Pin)?;
         let n = steps.unsigned_abs();
+        let mut since_check = STOP_CHECK_US;
         for i in 0..n {
+            if since_check >= STOP_CHECK_US {
+                if stop() {
+                    return Err(MotorError::Stopped);
+                }
+                since_check = 0;
+            }
+            since_check += self.cfg.interval_us(i, n);
             self.step.set_high().map_err(|_| MotorError::Pin)?;
             self.clock.delay_us(self.cfg.pulse_us as u64).await;
             self.step.set_low().map_err(|_| MotorError::Pin)?;
@@ -137,7 +152,7 @@ mod tests {
         ]);
         let mut dir = Mock::new(&[T::set(State::Low)]);
         let mut m = StepDir::new(step.clone(), dir.clone(), Count(0), Config::default());
-        embassy_futures::block_on(m.move_steps(-2)).unwrap();
+        embassy_futures::block_on(m.move_steps(-2, &mut || false)).unwrap();
         assert_eq!(m.clock.0, 5000);
         step.done();
         dir.done();

@@ -22,6 +22,8 @@ pub struct Recorder {
     pub lines: Vec<String>,
     /// Abort when this many record lines have been received.
     pub abort_after_records: Option<usize>,
+    /// Abort from this virtual time on, microseconds.
+    pub abort_at_us: Option<u64>,
 }
 
 impl Recorder {
@@ -45,7 +47,8 @@ impl Sink for Recorder {
     }
 
     fn abort_requested(&mut self) -> bool {
-        self.abort_after_records.is_some_and(|n| self.records() >= n)
+        self.abort_at_us.is_some_and(|t| virtual_now_us() >= t)
+            || self.abort_after_records.is_some_and(|n| self.records() >= n)
     }
 }
 
