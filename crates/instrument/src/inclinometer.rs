@@ -67,8 +67,12 @@ pub fn parse_line(line: &[u8]) -> Option<(f32, f32)> {
     }
     let x: f32 = fields.next()?.parse().ok()?;
     let y: f32 = fields.next()?.parse().ok()?;
-    (fields.next().is_none() && x.is_finite() && y.is_finite()).then_some((x, y))
+    let plausible = |v: f32| v.is_finite() && v.abs() <= MAX_ELEVATION_DEG;
+    (fields.next().is_none() && plausible(x) && plausible(y)).then_some((x, y))
 }
+
+/// An axis elevation beyond a right angle is no reading: refused at the sensor, never written.
+pub const MAX_ELEVATION_DEG: f32 = 90.0;
 
 /// The inclinometer driver.
 pub struct Inclinometer<U> {
@@ -154,5 +158,8 @@ mod tests {
         ] {
             assert_eq!(parse_line(bad.as_bytes()), None, "{bad}");
         }
+        // Well-formed but beyond a right angle: no reading.
+        let absurd = format_line(1.8e14, 0.0);
+        assert_eq!(parse_line(absurd.trim_end().as_bytes()), None, "{absurd}");
     }
 }

@@ -25,12 +25,13 @@ pub struct Record {
     pub quarters_dph: [f64; 4],
 }
 
-/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite).
+/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite or
+/// too large to write that way).
 pub fn write_fixed<W: Write>(w: &mut W, x: f64, decimals: u32) -> fmt::Result {
-    if !x.is_finite() {
+    let scale = 10u64.pow(decimals);
+    if !(x.is_finite() && nf_model::Float::abs(x) * (scale as f64) < u64::MAX as f64) {
         return w.write_str("nan");
     }
-    let scale = 10u64.pow(decimals);
     let v = nf_model::Float::round(nf_model::Float::abs(x) * scale as f64) as u64;
     let sign = if x < 0.0 && v != 0 { "-" } else { "" };
     if decimals == 0 {
@@ -45,13 +46,19 @@ pub fn write_fixed<W: Write>(w: &mut W, x: f64, decimals: u32) -> fmt::Result {
     )
 }
 
+/// `deg` in [0, 360) as it reads at seven decimals: 359.99999996 would print as 360.0000000.
+fn angle_7(deg: f64) -> f64 {
+    let r = nf_model::Float::round(nf_model::angle::wrap_360(deg) * 1e7) / 1e7;
+    if r >= 360.0 { 0.0 } else { r }
+}
+
 impl Record {
     /// The CSV line (without line end).
     pub fn write<W: Write>(&self, w: &mut W) -> fmt::Result {
         write!(w, "{},", self.index)?;
         write_fixed(w, self.t_s, 3)?;
         w.write_char(',')?;
-        write_fixed(w, self.encoder_deg, 7)?;
+        write_fixed(w, angle_7(self.encoder_deg), 7)?;
         w.write_char(',')?;
         write_fixed(w, self.rate_dph, 6)?;
         w.write_char(',')?;
@@ -109,6 +116,30 @@ mod tests {
         assert_eq!(f(359.99999999, 7), "360.0000000");
         assert_eq!(f(-12.5, 0), "-13");
         assert_eq!(f(f64::NAN, 3), "nan");
+        assert_eq!(f(1e15, 5), "nan");
+    }
+
+    #[test]
+    fn angles_are_written_in_0_to_360() {
+        for (deg, want) in [
+            (359.99999999, ",0.0000000,"),
+            (-0.00000001, ",0.0000000,"),
+            (360.5, ",0.5000000,"),
+        ] {
+            let r = Record {
+                index: 0,
+                t_s: 0.0,
+                encoder_deg: deg,
+                rate_dph: 0.0,
+                rate_sd_dph: 0.0,
+                samples: 1,
+                temp_c: 20.0,
+                tilt_x_deg: 0.0,
+                tilt_y_deg: 0.0,
+                quarters_dph: [0.0; 4],
+            };
+            assert!(r.line().contains(want), "{deg}: {}", r.line());
+        }
     }
 
     #[test]
