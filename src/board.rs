@@ -3,7 +3,7 @@
 //! | function          | peripheral        | pins                        | DMA            |
 //! |-------------------|-------------------|-----------------------------|----------------|
 //! | gyro ADC (ADS1256)| SPI1, mode 1      | PA5 SCK, PA6 MISO, PA7 MOSI, PA4 CS, PB0 DRDY (EXTI0) | DMA2 ch3 TX, ch0 RX |
-//! | encoder (BiSS-C)  | SPI2              | PB13 MA (SCK), PB14 SLO (MISO), PB15 unused MOSI | DMA1 ch4 TX, ch3 RX |
+//! | encoder (BiSS-C)  | SPI2, mode 2      | PB13 MA (SCK), PB14 SLO (MISO), PB15 unused MOSI | DMA1 ch4 TX, ch3 RX |
 //! | inclinometer      | USART2, 115200, interrupt-buffered | PA2 TX, PA3 RX |          |
 //! | host link         | USART1, 115200    | PA9 TX, PA10 RX             | DMA2 ch7 TX, ch5 RX |
 //! | stepper driver    | GPIO              | PE9 STEP, PE10 DIR          |                |
@@ -90,7 +90,8 @@ pub fn init(p: Peripherals) -> Board {
     let adc_spi = Spi::new(p.SPI1, p.PA5, p.PA7, p.PA6, p.DMA2_CH3, p.DMA2_CH0, Irqs, adc_cfg);
     let mut enc_cfg = spi::Config::default();
     enc_cfg.frequency = Hertz(2_000_000);
-    enc_cfg.mode = spi::MODE_1;
+    // BiSS-C: the clock idles high and the encoder changes its output on rising edges.
+    enc_cfg.mode = spi::MODE_2;
     let encoder_spi = Spi::new(p.SPI2, p.PB13, p.PB15, p.PB14, p.DMA1_CH4, p.DMA1_CH3, Irqs, enc_cfg);
     let mut serial = usart::Config::default();
     serial.baudrate = 115_200;

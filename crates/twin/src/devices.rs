@@ -1,5 +1,6 @@
 //! The twin's side of each wire: what the firmware's drivers talk to.
 
+use crate::biss::Frame;
 use crate::world::{InclinometerFault, TwinConfig, World};
 use core::convert::Infallible;
 use embedded_hal::spi::Operation;
@@ -76,20 +77,28 @@ impl embedded_hal_async::spi::SpiBus for EncoderBus {
     async fn read(&mut self, words: &mut [u8]) -> Result<(), Infallible> {
         let mut w = self.0.borrow_mut();
         let bits = w.cfg.encoder_bits;
-        let frame = match w.encoder_counts() {
-            None => [0; encoder::FRAME_BYTES],
+        match w.encoder_counts() {
+            // No encoder: nothing pulls the line, it reads low.
+            None => words.fill(0),
             Some(c) => {
-                let ack = 1 + (w.rng.next_u64() % 4) as u32;
-                let mut f = encoder::encode_frame(c, bits, false, false, ack);
+                let (idle, ack) = (1 + (w.rng.next_u64() % 2) as usize, 1 + (w.rng.next_u64() % 4) as usize);
+                let frame = Frame {
+                    counts: c as u64,
+                    bits,
+                    error: false,
+                    warning: false,
+                    idle,
+                    ack,
+                };
+                frame.clock_into(words);
                 if w.encoder_frame_corrupt() {
-                    let bit = ack as usize + 2 + (w.rng.next_u64() % (bits as u64 + 8)) as usize;
-                    f[bit / 8] ^= 0x80 >> (bit % 8);
+                    // A bit of the start, CDS, position, status or CRC.
+                    let bit = idle + ack + (w.rng.next_u64() % (bits as u64 + 10)) as usize;
+                    if let Some(b) = words.get_mut(bit / 8) {
+                        *b ^= 0x80 >> (bit % 8);
+                    }
                 }
-                f
             }
-        };
-        for (d, s) in words.iter_mut().zip(frame.iter().chain(std::iter::repeat(&0))) {
-            *d = *s;
         }
         Ok(())
     }

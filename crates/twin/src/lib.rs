@@ -4,6 +4,7 @@
 //! virtual time: the firmware's own drivers and run logic run against it unchanged, and a
 //! 400 s run takes a fraction of a second.
 
+pub mod biss;
 mod devices;
 pub mod noise;
 mod static_log;
