@@ -7,7 +7,7 @@ use embedded_hal::spi::Operation;
 use nf_instrument::adc::Ads1256;
 use nf_instrument::clock::Clock;
 use nf_instrument::encoder::{self, BissEncoder};
-use nf_instrument::inclinometer::{self, Inclinometer};
+use nf_instrument::inclinometer::Inclinometer;
 use nf_instrument::run::{Instrument, RunConfig, Thermometer};
 use nf_instrument::stepper::StepDir;
 use std::cell::RefCell;
@@ -64,6 +64,13 @@ impl embedded_hal::digital::OutputPin for DirPin {
         self.0.borrow_mut().set_dir(false);
         Ok(())
     }
+}
+
+/// The inclinometer's answer, `$TLT,<x>,<y>*<XOR of the body in hex>`, from its manual's format.
+fn tilt_line(x_deg: f64, y_deg: f64) -> String {
+    let body = format!("TLT,{x_deg:+.5},{y_deg:+.5}");
+    let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+    format!("${body}*{sum:02X}\r\n")
 }
 
 /// The encoder's BiSS-C line as an SPI bus: every read clocks in one frame.
@@ -200,8 +207,7 @@ impl embedded_io_async::Write for InclUart {
                     // 5 ms to measure and send.
                     w.advance(5_000);
                     let (x, y) = w.inclinometer();
-                    self.out
-                        .extend(inclinometer::format_line(x as f32, y as f32).as_bytes());
+                    self.out.extend(tilt_line(x, y).as_bytes());
                 }
                 (_, InclinometerFault::Garbage) => {
                     w.advance(5_000);
