@@ -17,8 +17,12 @@ use embassy_stm32::peripherals::{ADC1, PC0};
 use embassy_stm32::spi::{self, Spi};
 use embassy_stm32::time::Hertz;
 use embassy_stm32::usart::{self, BufferedUart, Uart};
+use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{Config, Peri, Peripherals, bind_interrupts, dma, peripherals};
 use static_cell::ConstStaticCell;
+
+/// The independent watchdog resets the MCU when nothing has made progress for this long.
+pub const WATCHDOG_US: u32 = 4_000_000;
 
 bind_interrupts!(pub struct Irqs {
     EXTI0 => exti::InterruptHandler<embassy_stm32::interrupt::typelevel::EXTI0>;
@@ -67,6 +71,7 @@ pub struct Board {
     pub step: Output<'static>,
     pub dir: Output<'static>,
     pub thermometer: GyroThermometer,
+    pub watchdog: IndependentWatchdog<'static, peripherals::IWDG>,
 }
 
 /// The gyro's temperature sensor on ADC1.
@@ -75,12 +80,41 @@ pub struct GyroThermometer {
     pin: Peri<'static, PC0>,
 }
 
+/// Temperatures the sensor can report; outside them it is open, shorted or not there.
+const PLAUSIBLE_C: core::ops::RangeInclusive<f32> = -40.0..=125.0;
+
 impl nf_instrument::run::Thermometer for GyroThermometer {
     fn read_c(&mut self) -> Option<f32> {
         let counts = self.adc.blocking_read(&mut self.pin, SampleTime::CYCLES480);
-        // 12 bits over 3.3 V, 10 mV per degree C.
-        Some(counts as f32 * 3300.0 / 4095.0 / 10.0)
+        // 12 bits over 3.3 V, 10 mV per degree C: a rail reading (0 or 4095) is a fault.
+        let c = counts as f32 * 3300.0 / 4095.0 / 10.0;
+        (counts > 0 && counts < 4095 && PLAUSIBLE_C.contains(&c)).then_some(c)
     }
+}
+
+/// Why the MCU last reset, read from RCC_CSR and cleared for the next boot.
+pub fn reset_cause() -> &'static str {
+    let rcc = embassy_stm32::pac::RCC;
+    let csr = rcc.csr().read();
+    let cause = if csr.wdgrstf() {
+        "independent watchdog"
+    } else if csr.wwdgrstf() {
+        "window watchdog"
+    } else if csr.lpwrrstf() {
+        "low-power"
+    } else if csr.sftrstf() {
+        "software"
+    } else if csr.borrstf() {
+        "brown-out"
+    } else if csr.porrstf() {
+        "power-on"
+    } else if csr.padrstf() {
+        "reset pin"
+    } else {
+        "unknown"
+    };
+    rcc.csr().modify(|w| w.set_rmvf(true));
+    cause
 }
 
 pub fn init(p: Peripherals) -> Board {
@@ -115,5 +149,6 @@ pub fn init(p: Peripherals) -> Board {
             adc: Adc::new(p.ADC1),
             pin: p.PC0,
         },
+        watchdog: IndependentWatchdog::new(p.IWDG, WATCHDOG_US),
     }
 }

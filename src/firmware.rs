@@ -4,14 +4,16 @@
 
 use crate::board::{self, GyroThermometer};
 use core::cell::{Cell, RefCell};
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_stm32::exti::ExtiInput;
 use embassy_stm32::gpio::Output;
 use embassy_stm32::mode::Async;
+use embassy_stm32::peripherals::IWDG;
 use embassy_stm32::spi::{self, Spi};
 use embassy_stm32::usart::{RingBufferedUartRx, UartTx};
+use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
@@ -39,6 +41,10 @@ static SAMPLES: Channel<M, Result<i32, AdcError>, 256> = Channel::new();
 static TX: Channel<M, Line, 8> = Channel::new();
 static START: Signal<M, ()> = Signal::new();
 static ABORT: AtomicBool = AtomicBool::new(false);
+/// Counts the run's signs of life (it looks for an abort every 50 ms of moving, settling and
+/// dwelling); the watchdog is fed only while it grows or no run goes.
+static PROGRESS: AtomicU32 = AtomicU32::new(0);
+static IDLE: AtomicBool = AtomicBool::new(true);
 /// The host link's settings and state; the run's configuration as START took it.
 static SESSION: Mutex<M, RefCell<Session>> = Mutex::new(RefCell::new(Session::new(RunConfig::DEFAULT)));
 static CONFIG: Mutex<M, Cell<RunConfig>> = Mutex::new(Cell::new(RunConfig::DEFAULT));
@@ -82,6 +88,7 @@ impl Sink for HostSink {
     }
 
     fn abort_requested(&mut self) -> bool {
+        PROGRESS.fetch_add(1, Ordering::Relaxed);
         ABORT.load(Ordering::Relaxed)
     }
 }
@@ -165,7 +172,9 @@ async fn sequencer_task(mut hw: Hw) {
         info!("sequencer: idle, waiting for START");
         START.wait().await;
         let cfg = CONFIG.lock(|c| c.get());
+        IDLE.store(false, Ordering::Relaxed);
         let report = run::run(&mut hw, &cfg, &mut HostSink).await;
+        IDLE.store(true, Ordering::Relaxed);
         let status = SESSION.lock(|s| {
             let mut s = s.borrow_mut();
             s.finished(report);
@@ -177,10 +186,32 @@ async fn sequencer_task(mut hw: Hw) {
     }
 }
 
+/// Feeds the watchdog while the firmware is idle or the run shows progress; a run stuck in a
+/// driver stops feeding it, and the MCU resets after [`board::WATCHDOG_US`].
+#[embassy_executor::task]
+async fn watchdog_task(mut wdg: IndependentWatchdog<'static, IWDG>) {
+    wdg.unleash();
+    let mut seen = PROGRESS.load(Ordering::Relaxed);
+    loop {
+        Timer::after_millis(500).await;
+        let now = PROGRESS.load(Ordering::Relaxed);
+        if IDLE.load(Ordering::Relaxed) || now != seen {
+            wdg.pet();
+        } else {
+            warn!("watchdog: no progress in 500 ms");
+        }
+        seen = now;
+    }
+}
+
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     let p = embassy_stm32::init(board::clocks());
-    info!("north finder firmware {=str}", env!("CARGO_PKG_VERSION"));
+    info!(
+        "north finder firmware {=str}; last reset: {=str}",
+        env!("CARGO_PKG_VERSION"),
+        board::reset_cause()
+    );
     let b = board::init(p);
     let (host_tx, host_rx) = b.host.split();
     static HOST_RX: ConstStaticCell<[u8; 256]> = ConstStaticCell::new([0; 256]);
@@ -199,4 +230,5 @@ async fn main(spawner: Spawner) {
     spawner.spawn(link_tx_task(host_tx).unwrap());
     spawner.spawn(link_rx_task(host_rx).unwrap());
     spawner.spawn(sequencer_task(hw).unwrap());
+    spawner.spawn(watchdog_task(b.watchdog).unwrap());
 }
