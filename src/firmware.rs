@@ -32,6 +32,9 @@ use nf_instrument::stepper::{self, StepDir};
 use static_cell::ConstStaticCell;
 use {defmt_rtt as _, panic_probe as _};
 
+// Every log line carries the time since boot.
+defmt::timestamp!("{=u64:us}", Instant::now().as_micros());
+
 type Line = String<MAX_LINE>;
 type M = CriticalSectionRawMutex;
 
