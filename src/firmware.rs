@@ -100,7 +100,7 @@ type AdcSpi = ExclusiveDevice<Spi<'static, Async, spi::mode::Master>, Output<'st
 
 #[embassy_executor::task]
 async fn gyro_task(mut adc: Ads1256<AdcSpi, ExtiInput<'static, Async>>) {
-    if let Err(e) = adc.start(&Default::default()).await {
+    if let Err(e) = adc.start(&Default::default(), &mut EmbassyClock).await {
         error!("adc: start failed: {:?}", e);
     }
     loop {

@@ -2,6 +2,7 @@
 //! data-ready line on an EXTI pin. The ADC runs in continuous-read mode (RDATAC): after each
 //! falling edge of DRDY the driver clocks out one 24-bit two's-complement sample.
 
+use crate::clock::{Clock, with_timeout};
 use embedded_hal::spi::Operation;
 use embedded_hal_async::digital::Wait;
 use embedded_hal_async::spi::SpiDevice;
@@ -12,6 +13,7 @@ pub const CODE_MIN: i32 = -0x80_0000;
 
 mod cmd {
     pub const WREG: u8 = 0x50;
+    pub const RREG: u8 = 0x10;
     pub const SELFCAL: u8 = 0xF0;
     pub const RDATAC: u8 = 0x03;
     pub const SDATAC: u8 = 0x0F;
@@ -23,7 +25,21 @@ mod cmd {
 pub enum AdcError {
     /// The SPI bus or the DRDY pin reported an error.
     Bus,
+    /// The registers read back differ from those written (no ADC, or a broken bus): the
+    /// first register that differs, as written and as read.
+    Readback { register: u8, wrote: u8, read: u8 },
+    /// DRDY did not go low after the self-calibration.
+    DrdyTimeout,
 }
+
+/// Start-up attempts before the ADC counts as faulty.
+pub const START_TRIES: u8 = 3;
+/// The longest self-calibration (at 2.5 samples/s it takes about 1.2 s).
+const SELFCAL_TIMEOUT_US: u64 = 2_000_000;
+/// From the RREG command to the first data bit: 50 periods of the 7.68 MHz clock.
+const T6_NS: u32 = 6_600;
+/// First register written: MUX (then ADCON and DRATE).
+const REG_MUX: u8 = 0x01;
 
 /// Register settings written at start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -82,16 +98,55 @@ impl<SPI: SpiDevice, DRDY: Wait> Ads1256<SPI, DRDY> {
         Ads1256 { spi, drdy }
     }
 
-    /// Stops continuous reading, writes the registers, self-calibrates and starts continuous
-    /// reading.
-    pub async fn start(&mut self, cfg: &Config) -> Result<(), AdcError> {
-        let regs = [cmd::SDATAC, cmd::WREG | 0x01, 2, cfg.mux, cfg.adcon, cfg.drate];
+    /// Stops continuous reading, writes the registers and reads them back, self-calibrates and
+    /// starts continuous reading; tries [`START_TRIES`] times before reporting the fault.
+    pub async fn start<C: Clock>(&mut self, cfg: &Config, clock: &mut C) -> Result<(), AdcError> {
+        let mut last = AdcError::Bus;
+        for attempt in 1..=START_TRIES {
+            match self.try_start(cfg, clock).await {
+                Ok(()) => {
+                    info!(
+                        "adc: registers verified, continuous read started, mux {} drate {}",
+                        cfg.mux, cfg.drate
+                    );
+                    return Ok(());
+                }
+                Err(e) => {
+                    warn!("adc: start-up attempt {} failed: {:?}", attempt, e);
+                    last = e;
+                }
+            }
+        }
+        error!("adc: not started after {} attempts", START_TRIES);
+        Err(last)
+    }
+
+    async fn try_start<C: Clock>(&mut self, cfg: &Config, clock: &mut C) -> Result<(), AdcError> {
+        let wrote = [cfg.mux, cfg.adcon, cfg.drate];
+        let regs = [cmd::SDATAC, cmd::WREG | REG_MUX, 2, wrote[0], wrote[1], wrote[2]];
         self.spi.write(&regs).await.map_err(|_| AdcError::Bus)?;
+        let mut read = [0u8; 3];
+        self.spi
+            .transaction(&mut [
+                Operation::Write(&[cmd::RREG | REG_MUX, 2]),
+                Operation::DelayNs(T6_NS),
+                Operation::Read(&mut read),
+            ])
+            .await
+            .map_err(|_| AdcError::Bus)?;
+        if let Some(k) = (0..3).find(|&k| read[k] != wrote[k]) {
+            return Err(AdcError::Readback {
+                register: REG_MUX + k as u8,
+                wrote: wrote[k],
+                read: read[k],
+            });
+        }
         self.spi.write(&[cmd::SELFCAL]).await.map_err(|_| AdcError::Bus)?;
-        self.drdy.wait_for_low().await.map_err(|_| AdcError::Bus)?;
-        self.spi.write(&[cmd::RDATAC]).await.map_err(|_| AdcError::Bus)?;
-        info!("adc: continuous read started, mux {} drate {}", cfg.mux, cfg.drate);
-        Ok(())
+        with_timeout(clock, SELFCAL_TIMEOUT_US, self.drdy.wait_for_low())
+            .await
+            .ok_or(AdcError::DrdyTimeout)?
+            .map_err(|_| AdcError::Bus)?;
+        self.spi.write(&[cmd::RDATAC]).await.map_err(|_| AdcError::Bus)
     }
 
     /// Waits for the next conversion and reads it.
@@ -129,6 +184,11 @@ mod tests {
             SpiT::write_vec(vec![0x0F, 0x51, 2, 0x01, 0x00, 0xA1]),
             SpiT::transaction_end(),
             SpiT::transaction_start(),
+            SpiT::write_vec(vec![0x11, 2]),
+            SpiT::delay(6_600),
+            SpiT::read_vec(vec![0x01, 0x00, 0xA1]),
+            SpiT::transaction_end(),
+            SpiT::transaction_start(),
             SpiT::write_vec(vec![0xF0]),
             SpiT::transaction_end(),
             SpiT::transaction_start(),
@@ -149,12 +209,57 @@ mod tests {
         let (mut s, mut p) = (Spi::new(&spi), Pin::new(&pin));
         let mut adc = Ads1256::new(s.clone(), p.clone());
         embassy_futures::block_on(async {
-            adc.start(&Config::default()).await.unwrap();
+            adc.start(&Config::default(), &mut Count(0)).await.unwrap();
             assert_eq!(adc.next_sample().await, Ok(0x123456));
             assert_eq!(adc.next_sample().await, Ok(-2));
         });
         s.done();
         p.done();
         assert_eq!(Config::default().sample_rate_hz(), Some(1000));
+    }
+
+    /// Time that only moves when waited on.
+    struct Count(u64);
+    impl Clock for Count {
+        fn now_us(&self) -> u64 {
+            self.0
+        }
+        async fn delay_us(&mut self, us: u64) {
+            self.0 += us;
+        }
+    }
+
+    #[test]
+    fn no_adc_on_the_bus_is_a_readback_fault_after_every_try() {
+        let attempt = [
+            SpiT::transaction_start(),
+            SpiT::write_vec(vec![0x0F, 0x51, 2, 0x01, 0x00, 0xA1]),
+            SpiT::transaction_end(),
+            SpiT::transaction_start(),
+            SpiT::write_vec(vec![0x11, 2]),
+            SpiT::delay(6_600),
+            // MISO pulled up: every byte reads 0xFF.
+            SpiT::read_vec(vec![0xFF, 0xFF, 0xFF]),
+            SpiT::transaction_end(),
+        ];
+        let spi: std::vec::Vec<_> = attempt
+            .iter()
+            .cycle()
+            .take(attempt.len() * START_TRIES as usize)
+            .cloned()
+            .collect();
+        let (mut s, mut p) = (Spi::new(&spi), Pin::new(&[]));
+        let mut adc = Ads1256::new(s.clone(), p.clone());
+        let r = embassy_futures::block_on(adc.start(&Config::default(), &mut Count(0)));
+        assert_eq!(
+            r,
+            Err(AdcError::Readback {
+                register: 1,
+                wrote: 0x01,
+                read: 0xFF
+            })
+        );
+        s.done();
+        p.done();
     }
 }

@@ -127,8 +127,15 @@ impl embedded_hal_async::spi::SpiBus for EncoderBus {
     }
 }
 
-/// The ADC's SPI side: a 3-byte read returns the conversion of the current time.
-pub struct AdcSpi(Shared);
+/// The ADC's SPI side: a 3-byte read returns the conversion of the current time, or after an
+/// RREG command the registers.
+pub struct AdcSpi {
+    world: Shared,
+    /// The ADS1256's 11 registers as written.
+    regs: [u8; 11],
+    /// An RREG waits for its read: the first register.
+    readback: Option<usize>,
+}
 /// The ADC's DRDY line: waiting for it advances to the next conversion.
 pub struct Drdy(Shared);
 
@@ -136,13 +143,51 @@ impl embedded_hal_async::spi::ErrorType for AdcSpi {
     type Error = Infallible;
 }
 
+impl AdcSpi {
+    /// Takes command bytes as the ADS1256 datasheet lists them: WREG and RREG carry a register
+    /// and a count; SDATAC, SELFCAL and RDATAC need nothing from the twin.
+    fn command(&mut self, bytes: &[u8]) {
+        let mut i = 0;
+        while i < bytes.len() {
+            let (op, reg) = (bytes[i] & 0xF0, (bytes[i] & 0x0F) as usize);
+            let count = bytes.get(i + 1).map_or(0, |&c| c as usize + 1);
+            match op {
+                0x50 => {
+                    for (k, &v) in bytes.iter().skip(i + 2).take(count).enumerate() {
+                        if let Some(r) = self.regs.get_mut(reg + k) {
+                            *r = v;
+                        }
+                    }
+                    i += 2 + count;
+                }
+                0x10 => {
+                    self.readback = Some(reg);
+                    i += 2;
+                }
+                _ => i += 1,
+            }
+        }
+    }
+}
+
 impl embedded_hal_async::spi::SpiDevice for AdcSpi {
     async fn transaction(&mut self, ops: &mut [Operation<'_, u8>]) -> Result<(), Infallible> {
         for op in ops {
-            if let Operation::Read(buf) = op {
-                let s = self.0.borrow_mut().adc_sample();
-                let b = s.to_be_bytes();
-                buf.copy_from_slice(&b[1..1 + buf.len().min(3)]);
+            match op {
+                Operation::Write(bytes) => self.command(bytes),
+                Operation::Read(buf) => match self.readback.take() {
+                    Some(reg) => {
+                        for (k, b) in buf.iter_mut().enumerate() {
+                            *b = self.regs.get(reg + k).copied().unwrap_or(0);
+                        }
+                    }
+                    None => {
+                        let s = self.world.borrow_mut().adc_sample();
+                        let b = s.to_be_bytes();
+                        buf.copy_from_slice(&b[1..1 + buf.len().min(3)]);
+                    }
+                },
+                _ => {}
             }
         }
         Ok(())
@@ -265,9 +310,15 @@ pub fn instrument(cfg: &TwinConfig, run: &RunConfig) -> (TwinInstrument, Shared)
     twin.sample_rate_hz = run.sample_rate_hz;
     let world = Rc::new(RefCell::new(World::new(twin)));
     let clock = TwinClock(world.clone());
-    let mut adc = Ads1256::new(AdcSpi(world.clone()), Drdy(world.clone()));
-    // The twin's bus cannot fail; a dead ADC shows as missing samples later.
-    let _ = embassy_futures::block_on(adc.start(&Default::default()));
+    let spi = AdcSpi {
+        world: world.clone(),
+        regs: [0; 11],
+        readback: None,
+    };
+    let mut adc = Ads1256::new(spi, Drdy(world.clone()));
+    // The twin's ADC answers its registers; a dead ADC shows as missing samples later.
+    embassy_futures::block_on(adc.start(&Default::default(), &mut clock.clone()))
+        .expect("the twin's ADC reads its registers back");
     let hw = Instrument {
         motor: StepDir::new(StepPin(world.clone()), DirPin(world.clone()), clock.clone(), cfg.motor),
         encoder: BissEncoder::new(
