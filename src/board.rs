@@ -11,6 +11,7 @@
 
 use embassy_stm32::adc::{Adc, SampleTime};
 use embassy_stm32::exti::{self, ExtiInput};
+use embassy_stm32::flash::{self, Flash};
 use embassy_stm32::gpio::{Level, Output, Pull, Speed};
 use embassy_stm32::mode::Async;
 use embassy_stm32::peripherals::{ADC1, PC0};
@@ -25,6 +26,7 @@ use static_cell::ConstStaticCell;
 pub const WATCHDOG_US: u32 = 4_000_000;
 
 bind_interrupts!(pub struct Irqs {
+    FLASH => flash::InterruptHandler;
     EXTI0 => exti::InterruptHandler<embassy_stm32::interrupt::typelevel::EXTI0>;
     USART1 => usart::InterruptHandler<peripherals::USART1>;
     USART2 => usart::BufferedInterruptHandler<peripherals::USART2>;
@@ -72,7 +74,12 @@ pub struct Board {
     pub dir: Output<'static>,
     pub thermometer: GyroThermometer,
     pub watchdog: IndependentWatchdog<'static, peripherals::IWDG>,
+    pub flash: Flash<'static>,
 }
+
+/// Where the saved settings live: flash sectors 10 and 11 (offsets from the flash's start),
+/// outside the program (`memory.x`).
+pub const SETTINGS_FLASH: core::ops::Range<u32> = 0xC_0000..0x10_0000;
 
 /// The gyro's temperature sensor on ADC1.
 pub struct GyroThermometer {
@@ -150,5 +157,6 @@ pub fn init(p: Peripherals) -> Board {
             pin: p.PC0,
         },
         watchdog: IndependentWatchdog::new(p.IWDG, WATCHDOG_US),
+        flash: Flash::new(p.FLASH, Irqs),
     }
 }

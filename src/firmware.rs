@@ -8,6 +8,7 @@ use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use defmt::{error, info, warn};
 use embassy_executor::Spawner;
 use embassy_stm32::exti::ExtiInput;
+use embassy_stm32::flash::Flash;
 use embassy_stm32::gpio::Output;
 use embassy_stm32::mode::Async;
 use embassy_stm32::peripherals::IWDG;
@@ -28,6 +29,7 @@ use nf_instrument::inclinometer::Inclinometer;
 use nf_instrument::record::MAX_LINE;
 use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, Sink};
 use nf_instrument::session::{Action, LineAssembler, Session};
+use nf_instrument::settings_store::SettingsStore;
 use nf_instrument::stepper::{self, StepDir};
 use static_cell::ConstStaticCell;
 use {defmt_rtt as _, panic_probe as _};
@@ -50,6 +52,8 @@ static PROGRESS: AtomicU32 = AtomicU32::new(0);
 static IDLE: AtomicBool = AtomicBool::new(true);
 /// The host link's settings and state; the run's configuration as START took it.
 static SESSION: Mutex<M, RefCell<Session>> = Mutex::new(RefCell::new(Session::new(RunConfig::DEFAULT)));
+/// SAVE requests: the settings to store.
+static SAVE: Channel<M, RunConfig, 1> = Channel::new();
 static CONFIG: Mutex<M, Cell<RunConfig>> = Mutex::new(Cell::new(RunConfig::DEFAULT));
 
 /// embassy-time as the run logic's clock.
@@ -150,6 +154,7 @@ async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
                     START.signal(());
                 }
                 Action::Abort => ABORT.store(true, Ordering::Relaxed),
+                Action::Save => SAVE.send(SESSION.lock(|s| s.borrow().cfg)).await,
                 Action::None => {}
             }
             for l in reply {
@@ -189,6 +194,47 @@ async fn sequencer_task(mut hw: Hw) {
     }
 }
 
+type Store = SettingsStore<Flash<'static>>;
+
+/// Stores the settings on SAVE and answers when the flash is written.
+#[embassy_executor::task]
+async fn settings_task(mut store: Store) {
+    loop {
+        let cfg = SAVE.receive().await;
+        let ok = store.save(&cfg).await;
+        let mut l = Line::new();
+        match ok {
+            Ok(()) => {
+                info!("settings: saved");
+                let _ = l.push_str("OK");
+            }
+            Err(e) => {
+                error!("settings: not saved: {:?}", e);
+                let _ = l.push_str("ERR settings not saved: flash error");
+            }
+        }
+        TX.send(l).await;
+    }
+}
+
+/// The saved settings, or the defaults when there are none or they cannot be read.
+async fn load_settings(store: &mut Store) -> RunConfig {
+    match store.load().await {
+        Ok(Some(cfg)) => {
+            info!("settings: loaded from flash");
+            cfg
+        }
+        Ok(None) => {
+            info!("settings: none saved, defaults");
+            RunConfig::DEFAULT
+        }
+        Err(e) => {
+            error!("settings: not loaded ({:?}), defaults", e);
+            RunConfig::DEFAULT
+        }
+    }
+}
+
 /// Feeds the watchdog while the firmware is idle or the run shows progress; a run stuck in a
 /// driver stops feeding it, and the MCU resets after [`board::WATCHDOG_US`].
 #[embassy_executor::task]
@@ -216,6 +262,13 @@ async fn main(spawner: Spawner) {
         board::reset_cause()
     );
     let b = board::init(p);
+    let mut store = match SettingsStore::new(b.flash, board::SETTINGS_FLASH) {
+        Some(s) => s,
+        // The range is a constant of the board: wrong only by a programming error.
+        None => defmt::panic!("settings: the flash range is not whole sectors"),
+    };
+    let cfg = load_settings(&mut store).await;
+    SESSION.lock(|s| s.borrow_mut().cfg = cfg);
     let (host_tx, host_rx) = b.host.split();
     static HOST_RX: ConstStaticCell<[u8; 256]> = ConstStaticCell::new([0; 256]);
     let host_rx = host_rx.into_ring_buffered(HOST_RX.take());
@@ -234,4 +287,5 @@ async fn main(spawner: Spawner) {
     spawner.spawn(link_rx_task(host_rx).unwrap());
     spawner.spawn(sequencer_task(hw).unwrap());
     spawner.spawn(watchdog_task(b.watchdog).unwrap());
+    spawner.spawn(settings_task(store).unwrap());
 }

@@ -1,9 +1,12 @@
 //! The host link's scenarios (`tests/link/*.txt`): lines sent (`> `), the replies that must come
-//! back (`< `, `*` matches anything), and `= run`, where the run that START asked for is made
-//! by the firmware's run logic on the twin. Every line goes through the byte-level assembler the
-//! firmware uses, and every reply must be expected.
+//! back (`< `, `*` matches anything), `= run`, where the run that START asked for is made by the
+//! firmware's run logic on the twin, and `= reboot`, which starts a new session from the record
+//! SAVE wrote (as the firmware loads it at boot). Every line goes through the byte-level
+//! assembler the firmware uses, and every reply must be expected.
 
+use nf_instrument::run::RunConfig;
 use nf_instrument::session::{Action, LineAssembler, Session};
+use nf_instrument::settings::{self, MAX_BYTES};
 use nf_twin::{Recorder, TwinConfig, simulate};
 
 fn matches(pattern: &str, text: &str) -> bool {
@@ -30,6 +33,7 @@ fn play(name: &str, script: &str) {
     let mut lines = LineAssembler::default();
     let mut pending: Vec<String> = Vec::new();
     let mut start_asked = false;
+    let mut saved: Option<Vec<u8>> = None;
     for (k, step) in script.lines().enumerate() {
         let at = format!("{name}:{}", k + 1);
         if let Some(sent) = step.strip_prefix('>') {
@@ -42,6 +46,12 @@ fn play(name: &str, script: &str) {
                     let (action, reply) = session.handle(event);
                     start_asked |= action == Action::Start;
                     pending.extend(reply.iter().map(|l| l.to_string()));
+                    if action == Action::Save {
+                        let mut bytes = [0; MAX_BYTES];
+                        let n = settings::encode(&session.cfg, &mut bytes);
+                        saved = Some(bytes[..n].to_vec());
+                        pending.push("OK".into());
+                    }
                 }
             }
         } else if let Some(want) = step.strip_prefix("< ") {
@@ -54,6 +64,10 @@ fn play(name: &str, script: &str) {
             let (report, _) = simulate(&TwinConfig::default(), &session.cfg, &mut rec);
             session.finished(report);
             start_asked = false;
+        } else if step == "= reboot" {
+            let cfg = saved.as_deref().map_or(Ok(RunConfig::DEFAULT), settings::decode);
+            session = Session::new(cfg.unwrap_or_else(|e| panic!("{at}: the saved record: {e:?}")));
+            lines = LineAssembler::default();
         } else {
             assert!(
                 step.is_empty() || step.starts_with('#'),
@@ -77,7 +91,7 @@ fn every_scenario_plays_as_written() {
         play(&name, &std::fs::read_to_string(&path).unwrap());
         played += 1;
     }
-    assert!(played >= 4, "{played} scenarios in {}", dir.display());
+    assert!(played >= 5, "{played} scenarios in {}", dir.display());
 }
 
 #[test]

@@ -18,6 +18,8 @@ pub mod link;
 pub mod record;
 pub mod run;
 pub mod session;
+pub mod settings;
+pub mod settings_store;
 pub mod stepper;
 
 #[cfg(test)]

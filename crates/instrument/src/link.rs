@@ -7,7 +7,8 @@
 //! `target_arcsec` (end the run at that running sigma; 0: off) or a gyro noise term in IEEE
 //! Std 952 units: `arw` (deg/sqrt(h)), `bias_instability` (deg/h), `rrw` (deg/h/sqrt(h)),
 //! `gm_sigma` (deg/h), `gm_tau` (s);
-//! `START`; `ABORT`; `STATUS`; `CONFIG`.
+//! `cal_zero` (ADC counts at zero rate) or `cal_scale` (deg/h per count);
+//! `START`; `ABORT`; `STATUS`; `CONFIG`; `SAVE` (to flash, loaded at boot); `DEFAULTS`.
 //! Replies: `OK`, `ERR <what>`, and the lines of the recording while a run goes.
 
 use crate::run::{RunConfig, TiltPolicy};
@@ -28,6 +29,10 @@ pub enum Setting {
     OrderMore(VisitList),
     TargetArcsec(f32),
     Noise(NoiseTerm, f64),
+    /// The ADC counts at zero rate.
+    CalZero(f64),
+    /// Degrees per hour per ADC count.
+    CalScale(f64),
 }
 
 /// A term of the gyro's noise model.
@@ -59,6 +64,10 @@ pub enum Command {
     Abort,
     Status,
     Config,
+    /// Store the settings in flash (loaded at the next boot).
+    Save,
+    /// Back to the firmware's defaults (SAVE stores them).
+    Defaults,
 }
 
 /// Why a command line was refused; the reply is `ERR <message>`.
@@ -80,9 +89,9 @@ impl LinkError {
     pub fn message(&self) -> &'static str {
         match self {
             LinkError::Empty => "empty line",
-            LinkError::UnknownCommand => "unknown command (SET, START, ABORT, STATUS, CONFIG)",
+            LinkError::UnknownCommand => "unknown command (SET, START, ABORT, STATUS, CONFIG, SAVE, DEFAULTS)",
             LinkError::UnknownKey => {
-                "unknown key (n, dwell_ms, settle_ms, lat, tilt_limit, tilt_policy, order, target_arcsec, arw, bias_instability, rrw, gm_sigma, gm_tau)"
+                "unknown key (n, dwell_ms, settle_ms, lat, tilt_limit, tilt_policy, order, target_arcsec, arw, bias_instability, rrw, gm_sigma, gm_tau, cal_zero, cal_scale)"
             }
             LinkError::MissingValue => "SET needs a key and a value",
             LinkError::BadValue => "value is not a number of the right kind",
@@ -113,6 +122,8 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
         Setting::TiltRefuse(r) => cfg.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
         Setting::Order(o) => cfg.order = o,
         Setting::TargetArcsec(v) => cfg.target_arcsec = v,
+        Setting::CalZero(v) => cfg.calibration.zero_counts = v,
+        Setting::CalScale(v) => cfg.calibration.dph_per_count = v,
         Setting::Noise(term, v) => {
             let m = &mut cfg.noise;
             *match term {
@@ -171,6 +182,14 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
                 v if v.eq_ignore_ascii_case("warn") => Setting::TiltRefuse(false),
                 _ => return Err(LinkError::BadValue),
             }
+        } else if k("cal_zero") {
+            Setting::CalZero(check(num::<f32>(val)?, -8_388_608.0, 8_388_608.0)? as f64)
+        } else if k("cal_scale") {
+            let v: f32 = num(val)?;
+            if !(v.is_finite() && v != 0.0 && v.abs() <= 1.0) {
+                return Err(LinkError::OutOfRange);
+            }
+            Setting::CalScale(v as f64)
         } else if k("target_arcsec") {
             Setting::TargetArcsec(check(num(val)?, 0.0, 36_000.0)?)
         } else if let Some(&(_, term)) = NOISE_KEYS.iter().find(|(name, _)| k(name)) {
@@ -195,6 +214,10 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
         Command::Status
     } else if cmd.eq_ignore_ascii_case("CONFIG") {
         Command::Config
+    } else if cmd.eq_ignore_ascii_case("SAVE") {
+        Command::Save
+    } else if cmd.eq_ignore_ascii_case("DEFAULTS") {
+        Command::Defaults
     } else {
         return Err(LinkError::UnknownCommand);
     };

@@ -67,12 +67,14 @@ pub enum Action {
     None,
     Start,
     Abort,
+    /// Store [`Session::cfg`] in flash, then answer `OK` or `ERR`.
+    Save,
 }
 
 /// One reply line.
 pub type ReplyLine = String<MAX_LINE>;
 /// The lines a command is answered with.
-pub type Reply = Vec<ReplyLine, 2>;
+pub type Reply = Vec<ReplyLine, 3>;
 
 /// The settings, whether a run goes, and the last run's report.
 #[derive(Debug, Clone)]
@@ -129,8 +131,13 @@ impl Session {
 
     fn command(&mut self, cmd: Command) -> (Action, Reply) {
         match cmd {
-            Command::Set(_) | Command::Start if self.running => {
+            Command::Set(_) | Command::Start | Command::Save | Command::Defaults if self.running => {
                 (Action::None, line(format_args!("ERR a run is in progress")))
+            }
+            Command::Save => (Action::Save, Reply::new()),
+            Command::Defaults => {
+                self.cfg = RunConfig::DEFAULT;
+                (Action::None, line(format_args!("OK")))
             }
             Command::Set(s) => match link::apply(&mut self.cfg, s) {
                 Ok(()) => (Action::None, line(format_args!("OK"))),
@@ -175,7 +182,7 @@ impl Session {
         one(l)
     }
 
-    /// Two lines: the run's settings, and the gyro's noise model.
+    /// Three lines: the run's settings, the gyro's noise model and its calibration.
     pub fn config(&self) -> Reply {
         let c = &self.cfg;
         let mut a = ReplyLine::new();
@@ -210,9 +217,15 @@ impl Session {
             let _ = b.push_str(key);
             let _ = write_fixed(&mut b, v, decimals);
         }
+        let mut c = ReplyLine::new();
+        let _ = write!(c, "CONFIG cal zero_counts ");
+        let _ = write_fixed(&mut c, self.cfg.calibration.zero_counts, 1);
+        let _ = c.push_str(" dph_per_count ");
+        let _ = write_fixed(&mut c, self.cfg.calibration.dph_per_count, 12);
         let mut r = Reply::new();
         let _ = r.push(a);
         let _ = r.push(b);
+        let _ = r.push(c);
         r
     }
 }
