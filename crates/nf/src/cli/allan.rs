@@ -10,6 +10,7 @@ use crate::noise_file;
 use crate::plot::{self, Panel, Series, Style};
 use nf_model::noise::{NoiseModel, flicker_floor_factor};
 use serde_json::{Value, json};
+use std::io::Write;
 
 #[derive(clap::Args)]
 pub struct AllanArgs {
@@ -93,10 +94,11 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
         std::fs::write(path, noise_file::write(&fit.model, &comment))
             .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
     }
+    let mut out = std::io::stdout().lock();
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&r.json()).unwrap_or_default());
+        writeln!(out, "{}", serde_json::to_string_pretty(&r.json()).unwrap_or_default())?;
     } else {
-        print!("{}", r.text());
+        write!(out, "{}", r.text())?;
     }
     Ok(())
 }

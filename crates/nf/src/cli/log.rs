@@ -1,6 +1,6 @@
 //! `nf log`: a firmware defmt log back into a recording.
 
-use super::{Fail, write_out};
+use super::{Fail, note, write_out};
 use crate::logparse;
 use crate::recording::Recording;
 
@@ -31,6 +31,6 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
     let rec =
         Recording::parse(&out).map_err(|e| Fail(format!("{} (recording extracted from the log): {e}", a.log), 1))?;
     write_out(&a.out, &out)?;
-    eprintln!("{} positions recovered from {}", rec.rows.len(), a.log);
+    note!("{} positions recovered from {}", rec.rows.len(), a.log);
     Ok(())
 }

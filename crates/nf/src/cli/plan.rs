@@ -12,6 +12,7 @@ use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
 use nf_model::uncertainty::{Budget, allocate, tilt_arcsec};
 use serde_json::{Value, json};
+use std::io::Write;
 
 #[derive(clap::Args)]
 pub struct PlanArgs {
@@ -227,6 +228,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         plot::write(p, &[panel])?;
     }
     let bj = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
+    let mut out = std::io::stdout().lock();
     if a.json {
         let j = json!({
             "n": a.n, "dwell_s": a.dwell, "order": order.name(), "time_s": time_s,
@@ -246,86 +248,96 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                 "rms_error_over_sigma": k.rms_z, "mean_time_s": k.mean_time_s})),
             "monte_carlo": mc.map(|(m, f)| json!({"runs": a.mc_runs, "sd_arcsec": m, "formula_arcsec": f})),
         });
-        println!("{}", serde_json::to_string_pretty(&j).unwrap_or_default());
+        writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
         return Ok(());
     }
-    println!(
+    writeln!(
+        out,
         "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position), {:.0} s to north with levelling and moves",
         a.n,
         a.dwell,
         order.name(),
         s.gyro_dph,
         time_s
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "{:<22} {:>9} {:>9} {:>9} {:>9}",
         "budget (arcsec)", "gyro", "encoder", "tilt", "total"
-    );
+    )?;
     for (name, b) in [
         ("Eq. 31 (paper)", paper_b),
         ("exact, white noise", exact_b),
         ("exact, numerical", num_b),
     ] {
-        println!(
+        writeln!(
+            out,
             "{name:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
             b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec, b.total_arcsec
-        );
+        )?;
     }
     if let (Some(g), Some(t)) = (noise_gyro, noise_total) {
-        println!(
+        writeln!(
+            out,
             "{:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
             "noise model (GLS)", g, exact_b.encoder_arcsec, exact_b.tilt_arcsec, t
-        );
+        )?;
     }
     if let (Some(t), Some(p)) = (a.target, &search) {
         match &p.fastest {
-            Some(c) => println!("target {t}\": fastest run under the noise model: {}", describe(c)),
-            None if tilt_arcsec(a.tilt, a.lat) >= t => println!(
+            Some(c) => writeln!(out, "target {t}\": fastest run under the noise model: {}", describe(c))?,
+            None if tilt_arcsec(a.tilt, a.lat) >= t => writeln!(
+                out,
                 "target {t}\": not reachable: the levelling residue alone (tilt {} deg) gives {:.2}\"",
                 a.tilt,
                 tilt_arcsec(a.tilt, a.lat)
-            ),
+            )?,
             None => {
                 let floor = p.floor.as_ref().map_or("no run".to_string(), describe);
-                println!(
+                writeln!(
+                    out,
                     "target {t}\": not reachable with this gyro and motor in runs up to {:.0} s: the best is {floor}",
                     a.max_time
-                )
+                )?
             }
         }
         for c in &p.per_order {
-            println!("  fastest {}", describe(c));
+            writeln!(out, "  fastest {}", describe(c))?;
         }
         if let Some(s) = allowance {
-            println!(
+            writeln!(
+                out,
                 "target {t}\" at n = {}: allowances of a third of the variance each: gyro {:.5} deg/h per position, encoder {:.5} deg, levelling {:.5} deg",
                 a.n, s.gyro_dph, s.encoder_deg, s.tilt_deg
-            );
+            )?;
         }
         match paper_n {
-            Some(n) => println!(
+            Some(n) => writeln!(
+                out,
                 "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s dwell",
                 a.dwell
-            ),
-            None => println!("target {t}\": not reachable by the paper's Eq. 31"),
+            )?,
+            None => writeln!(out, "target {t}\": not reachable by the paper's Eq. 31")?,
         }
     }
     if let Some((c, stated, k)) = &twin {
-        println!(
+        writeln!(
+            out,
             "twin check, {} runs of the {}: RMS error {:.2}\" against the stated gyro term {stated:.2}\" ({:+.1}%), RMS error/sigma {:.2}",
             k.runs,
             describe(c),
             k.rms_error_arcsec,
             (k.rms_error_arcsec / stated - 1.0) * 100.0,
             k.rms_z
-        );
+        )?;
     }
     if let Some((m, f)) = mc {
-        println!(
+        writeln!(
+            out,
             "Monte Carlo (white noise), {} runs: sd {m:.2}\" against the formula {f:.2}\" ({:+.1}%)",
             a.mc_runs,
             (m / f - 1.0) * 100.0
-        );
+        )?;
     }
     Ok(())
 }

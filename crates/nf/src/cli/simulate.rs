@@ -1,7 +1,7 @@
 //! `nf simulate`: a recording from the firmware logic on the digital twin.
 
 use super::noise_args::NoiseArgs;
-use super::{Fail, positive, write_out};
+use super::{Fail, note, positive, write_out};
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
@@ -160,9 +160,9 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             "target_reached": report.target_reached,
             "error": report.result.err().map(|e| format!("{e:?}")),
         });
-        eprintln!("{j}");
+        note!("{j}");
     } else if let Some(x) = az {
-        eprintln!(
+        note!(
             "simulated {} dwells over {:.0} s; firmware fit: psi {:.4} deg +- {:.1}\" (truth {:.4})",
             report.positions,
             world.t_s(),
@@ -171,7 +171,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             a.psi
         );
         if let Some(u) = report.under_noise {
-            eprintln!(
+            note!(
                 "firmware under the noise model: psi {:.4} deg +- {:.1}\"{}",
                 u.psi_deg,
                 u.sigma_psi_deg * 3600.0,
