@@ -86,3 +86,69 @@ fn a_closed_standard_output_ends_every_subcommand_quietly() {
         );
     }
 }
+
+/// `nf args` is refused with exit code 2 and a message naming `what`, without a panic.
+fn refused(args: &[&str], what: &str) -> String {
+    let (code, out, err) = nf(args);
+    assert_eq!(code, 2, "{args:?}: {out}{err}");
+    assert!(err.contains(what) && !err.contains("panicked"), "{args:?}: {err}");
+    assert!(!out.contains("NaN"), "{args:?}: {out}");
+    err
+}
+
+#[test]
+fn every_numeric_option_has_a_checked_range() {
+    let rec = recording("ranges.csv", "12");
+    let r = rec.as_str();
+    let cases: &[(&[&str], &str)] = &[
+        (&["plan", "--gyro-noise", "nan"], "--gyro-noise"),
+        (&["plan", "--tilt", "nan"], "--tilt"),
+        (&["plan", "--n", "4294967295"], "--n"),
+        (&["plan", "--ref-dwell", "inf"], "--ref-dwell"),
+        (&["plan", "--encoder", "-1"], "--encoder"),
+        (&["plan", "--lat", "90"], "--lat"),
+        (&["plan", "--dwell", "0"], "--dwell"),
+        (&["plan", "--settle", "nan"], "--settle"),
+        (&["plan", "--max-sps", "1e300"], "--max-sps"),
+        (&["plan", "--accel", "0"], "--accel"),
+        (&["plan", "--steps-per-rev", "0"], "--steps-per-rev"),
+        (&["plan", "--target", "-5"], "--target"),
+        (&["plan", "--max-time", "inf"], "--max-time"),
+        (&["plan", "--twin-runs", "4294967295"], "--twin-runs"),
+        (&["plan", "--mc-runs", "99999999"], "--mc-runs"),
+        (&["plan", "--arw", "nan"], "--arw"),
+        (&["simulate", "--lat", "nan"], "--lat"),
+        (&["simulate", "--psi", "inf"], "--psi"),
+        (&["simulate", "--n", "100000"], "--n"),
+        (&["simulate", "--target-arcsec", "0"], "--target-arcsec"),
+        (&["simulate", "--dwell", "1e9"], "--dwell"),
+        (&["simulate", "--bias", "nan"], "--bias"),
+        (&["simulate", "--drift", "inf"], "--drift"),
+        (&["simulate", "--tilt", "-1"], "--tilt"),
+        (&["simulate", "--scale", "0"], "--scale"),
+        (&["simulate", "--encoder-error", "nan"], "--encoder-error"),
+        (&["simulate", "--temp", "1e6"], "--temp"),
+        (&["simulate", "--incl-noise", "nan"], "--incl-noise"),
+        (&["simulate", "--rrw", "-1"], "--rrw"),
+        (&["simulate", "--student-t-dof", "1.5"], "--student-t-dof"),
+        (&["simulate", "--gm-sigma", "0.1"], "--gm-tau"),
+        (&["fit", r, "--sigma-encoder", "nan"], "--sigma-encoder"),
+        (&["fit", r, "--sigma-tilt", "inf"], "--sigma-tilt"),
+        (&["fit", r, "--harmonics", "9"], "--harmonics"),
+        (&["fit", r, "--bias-instability", "nan"], "--bias-instability"),
+        (&["diagnose", r, "--alpha", "nan"], "--alpha"),
+        (&["diagnose", "--evaluate", "--seeds", "0"], "--seeds"),
+        (&["diagnose", "--evaluate", "--clean", "4294967295"], "--clean"),
+        (&["allan", r, "--sample-rate", "-10"], "--sample-rate"),
+    ];
+    for (args, option) in cases {
+        let err = refused(args, option);
+        assert!(
+            err.contains("finite number")
+                || err.contains(" is not in ")
+                || err.contains("needs")
+                || err.contains("0 (Gaussian)"),
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -3,6 +3,7 @@
 use super::Fail;
 use crate::diagnose::diagnose;
 use crate::plot::{Panel, Series, Style};
+use crate::range::above;
 use crate::recording::Recording;
 use crate::{diagnose, diagnose_eval, plot};
 use serde_json::{Value, json};
@@ -13,7 +14,7 @@ pub struct DiagnoseArgs {
     /// The recording (not needed with --evaluate).
     recording: Option<String>,
     /// Family-wise false-alarm rate of each selection step.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.05, value_parser = above(0.0, 0.5))]
     alpha: f64,
     #[arg(long)]
     json: bool,
@@ -24,17 +25,14 @@ pub struct DiagnoseArgs {
     #[arg(long)]
     evaluate: bool,
     /// Recordings per effect and magnitude in the suite.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     seeds: u32,
     /// Clean recordings in the suite.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 200, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     clean: u32,
 }
 
 pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
-    if !(a.alpha > 0.0 && a.alpha < 1.0) {
-        return Err(Fail("--alpha must be between 0 and 1".into(), 2));
-    }
     if a.evaluate {
         return diagnose_evaluate(&a);
     }

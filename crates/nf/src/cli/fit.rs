@@ -6,6 +6,7 @@ use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_fit::NoiseChoice;
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
+use crate::range::real;
 use crate::recording::Recording;
 use clap::ValueEnum;
 use nf_model::angle::surveying_azimuth_deg;
@@ -42,13 +43,13 @@ pub struct FitArgs {
     #[arg(long, value_enum, default_value = "none")]
     drift: DriftArg,
     /// Highest harmonic fitted (1 to 3).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=3))]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=3))]
     harmonics: u8,
     /// Encoder uncertainty for the budgets, deg.
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.001, value_parser = real(0.0, 10.0))]
     sigma_encoder: f64,
     /// Shaft-tilt uncertainty for the paper's budget (and the exact one when uncorrected), deg.
-    #[arg(long, default_value_t = 0.003)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.003, value_parser = real(0.0, 10.0))]
     sigma_tilt: f64,
     /// Machine-readable output.
     #[arg(long)]

@@ -103,11 +103,6 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// `x > 0`, false for NaN.
-pub(crate) fn positive(x: f64) -> bool {
-    x > 0.0
-}
-
 pub(crate) fn write_out(out: &Option<String>, text: &str) -> Result<(), Fail> {
     match out {
         Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 1)),

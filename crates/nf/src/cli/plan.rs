@@ -1,9 +1,10 @@
 //! `nf plan`: budgets, the fastest run for a target and a Monte Carlo check.
 
+use super::Fail;
 use super::noise_args::NoiseArgs;
-use super::{Fail, positive};
 use crate::plan_noise::{self, Candidate, Space};
 use crate::plot::{Panel, Series, Style};
+use crate::range::{MAX_LATITUDE_DEG, above, real};
 use crate::schedule::{Schedule, Timing};
 use crate::twin_check::{self, RunSpec, TwinCheck};
 use crate::{plan, plot};
@@ -16,58 +17,58 @@ use std::io::Write;
 
 #[derive(clap::Args)]
 pub struct PlanArgs {
-    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true, value_parser = real(-MAX_LATITUDE_DEG, MAX_LATITUDE_DEG))]
     lat: f64,
     /// White gyro noise of one position's mean, deg/h, for a dwell of --ref-dwell (sets the
     /// ARW unless --arw is given).
-    #[arg(long, default_value_t = 0.005)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.005, value_parser = real(0.0, 10.0))]
     gyro_noise: f64,
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 2.0, value_parser = real(0.01, 3600.0))]
     ref_dwell: f64,
     /// Encoder uncertainty per position, deg.
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.001, value_parser = real(0.0, 10.0))]
     encoder: f64,
     /// Shaft-tilt uncertainty left after levelling, deg.
-    #[arg(long, default_value_t = 0.003)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.003, value_parser = real(0.0, 10.0))]
     tilt: f64,
     /// Positions of the planned run.
-    #[arg(long, default_value_t = 72)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 72, value_parser = clap::value_parser!(u32).range(4..=720))]
     n: u32,
     /// Dwell of the planned run, s.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 2.0, value_parser = real(0.01, 600.0))]
     dwell: f64,
     /// Visiting order of the planned run.
     #[arg(long, default_value = "sequential")]
     order: String,
     /// Settling time after each move, s.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.3, value_parser = real(0.0, 60.0))]
     settle: f64,
     /// Stepper cruise speed, steps/s.
-    #[arg(long, default_value_t = stepper::Config::default().max_sps as f64)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().max_sps as f64, value_parser = real(stepper::Config::default().start_sps as f64, 1e6))]
     max_sps: f64,
     /// Stepper acceleration, steps/s^2.
-    #[arg(long, default_value_t = stepper::Config::default().accel_sps2 as f64)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().accel_sps2 as f64, value_parser = above(0.0, 1e8))]
     accel: f64,
     /// Motor steps per shaft turn.
-    #[arg(long, default_value_t = stepper::Config::default().steps_per_rev)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().steps_per_rev, value_parser = clap::value_parser!(u32).range(2..=10_000_000))]
     steps_per_rev: u32,
     /// Coloured noise terms (bias instability, random walk, Gauss-Markov) of the gyro.
     #[command(flatten)]
     noise: NoiseArgs,
     /// Target uncertainty, arcsec.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 36_000.0))]
     target: Option<f64>,
     /// Longest run the search considers, s.
-    #[arg(long, default_value_t = Space::default().max_time_s)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = Space::default().max_time_s, value_parser = above(0.0, 1e6))]
     max_time: f64,
     /// Twin runs checking the stated sigma of the fastest run (or of the planned run without a
     /// target): the firmware's logic, this gyro and motor, fitted with this noise model.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=10_000))]
     twin_runs: u32,
     /// Monte Carlo runs checking the formula (0: none).
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 2000, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
     mc_runs: u32,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     seed: u64,
     #[arg(long)]
     json: bool,
@@ -87,37 +88,7 @@ fn describe(c: &Candidate) -> String {
     )
 }
 
-fn check(a: &PlanArgs) -> Result<(), Fail> {
-    let finite_nonneg = |v: f64| v.is_finite() && v >= 0.0;
-    let ok = (4..=720).contains(&a.n)
-        && positive(a.dwell)
-        && a.dwell <= 600.0
-        && positive(a.ref_dwell)
-        && (-89.0..=89.0).contains(&a.lat)
-        && finite_nonneg(a.gyro_noise)
-        && finite_nonneg(a.encoder)
-        && finite_nonneg(a.tilt)
-        && finite_nonneg(a.settle)
-        && a.max_sps.is_finite()
-        && a.max_sps >= 1.0
-        && a.accel.is_finite()
-        && a.accel > 0.0
-        && a.steps_per_rev > 0
-        && positive(a.max_time)
-        && a.max_time.is_finite()
-        && a.target.is_none_or(|t| positive(t) && t.is_finite());
-    if ok {
-        Ok(())
-    } else {
-        Err(Fail(
-            "need 4 <= n <= 720, 0 < dwell <= 600 s, |lat| <= 89 deg, noise, encoder, tilt and settle finite and >= 0, a positive target, speed >= 1 step/s, acceleration > 0, a finite positive max time".into(),
-            2,
-        ))
-    }
-}
-
 pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
-    check(&a)?;
     let model = a.noise.apply(NoiseModel::white(a.gyro_noise, a.ref_dwell))?;
     let timing = Timing {
         motor: stepper::Config {
