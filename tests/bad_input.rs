@@ -152,3 +152,52 @@ fn every_numeric_option_has_a_checked_range() {
         );
     }
 }
+
+#[test]
+fn the_main_run_checks_its_options() {
+    let main_run = |args: &[&str]| {
+        let out = tmp("main-run.csv");
+        let o = Command::new(env!("CARGO_BIN_EXE_north-finder"))
+            .args(args)
+            .args(["--quiet", "--out", &out])
+            .output()
+            .unwrap();
+        (
+            o.status.code().unwrap_or(-1),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    for (args, option) in [
+        (["--lat", "nan"], "--lat"),
+        (["--lat", "95"], "--lat"),
+        (["--lat", "-90"], "--lat"),
+        (["--dwell-ms", "5000000"], "--dwell-ms"),
+        (["--positions", "65536"], "--positions"),
+        (["--psi", "inf"], "--psi"),
+        (["--tilt", "nan"], "--tilt"),
+        (["--target-arcsec", "-1"], "--target-arcsec"),
+        (["--order", "spiral"], "--order"),
+    ] {
+        let (code, err) = main_run(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(option) && !err.contains("panicked"), "{args:?}: {err}");
+    }
+    // A closed standard output after a good run: quiet, status 0.
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let o = Command::new(env!("CARGO_BIN_EXE_north-finder"))
+        .args([
+            "--quiet",
+            "--positions",
+            "8",
+            "--dwell-ms",
+            "100",
+            "--out",
+            &tmp("piped.csv"),
+        ])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !err.contains("panicked"), "{err}");
+}
