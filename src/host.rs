@@ -167,23 +167,21 @@ impl Summary<'_> {
                 "surveying azimuth {:.5} deg of the gamma = 0 direction",
                 nf_model::angle::surveying_azimuth_deg(a.psi_deg)
             )?;
-            writeln!(
-                o,
-                "uncertainty       {:.2} arcsec (1 sigma, from the residuals)",
-                a.sigma_arcsec
-            )?;
+            match a.sigma_arcsec {
+                Some(s) => writeln!(o, "uncertainty       {s:.2} arcsec (1 sigma, from the residuals)")?,
+                None => writeln!(o, "uncertainty       undefined (0 dof: as many unknowns as positions)")?,
+            }
             writeln!(o, "residual SS       {:.6} (deg/h)^2 over {} positions", a.rss, a.n)?;
             writeln!(
                 o,
                 "amplitude         {:.4} deg/h, offset {:.4} deg/h",
                 a.amplitude_dph, a.offset_dph
             )?;
-            writeln!(
-                o,
-                "twin's true psi   {:.5} deg: error {err:+.2} arcsec = {:+.2} sigma",
-                self.truth_deg,
-                err / a.sigma_arcsec as f64
-            )?;
+            write!(o, "twin's true psi   {:.5} deg: error {err:+.2} arcsec", self.truth_deg)?;
+            match a.sigma_arcsec {
+                Some(s) => writeln!(o, " = {:+.2} sigma", err / s as f64)?,
+                None => writeln!(o)?,
+            }
         }
         if let Some(u) = report.under_noise {
             writeln!(

@@ -2,8 +2,9 @@
 //! code 2, no panic and no NaN printed as a result; a closed standard output ends a command
 //! quietly.
 
+use nf_instrument::run::RunConfig;
 use nf_model::noise::NoiseModel;
-use nf_twin::StaticLog;
+use nf_twin::{Recorder, StaticLog, TwinConfig, simulate};
 use std::process::{Command, Stdio};
 
 fn nf(args: &[&str]) -> (i32, String, String) {
@@ -200,4 +201,26 @@ fn the_main_run_checks_its_options() {
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success() && !err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn a_run_stopped_at_three_positions_reports_its_sigma_as_undefined() {
+    let run = RunConfig {
+        positions: 12,
+        dwell_ms: 300,
+        ..RunConfig::default()
+    };
+    let sigma_after = |k: usize| {
+        let mut rec = Recorder {
+            abort_after_records: Some(k),
+            ..Default::default()
+        };
+        let (report, _) = simulate(&TwinConfig::default(), &run, &mut rec);
+        let a = report.azimuth.unwrap();
+        assert_eq!(a.n as usize, k);
+        a.sigma_arcsec
+    };
+    // Three positions for three unknowns: no residual, so no sigma (not 0 arcsec).
+    assert_eq!(sigma_after(3), None);
+    assert!(sigma_after(4).is_some_and(|s| s > 0.0));
 }

@@ -137,19 +137,22 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             "positions": report.positions,
             "duration_s": world.t_s(),
             "firmware_azimuth_deg": az.map(|x| x.psi_deg),
-            "firmware_sigma_arcsec": az.map(|x| x.sigma_arcsec),
+            "firmware_sigma_arcsec": az.and_then(|x| x.sigma_arcsec),
+            "firmware_sigma_undefined": az.is_some_and(|x| x.sigma_arcsec.is_none()),
             "under_noise": report.under_noise.map(|u| json!({"psi_deg": u.psi_deg, "sigma_arcsec": u.sigma_psi_deg * 3600.0, "dwells": u.dwells})),
             "target_reached": report.target_reached,
             "error": report.result.err().map(|e| format!("{e:?}")),
         });
         note!("{j}");
     } else if let Some(x) = az {
+        let sigma = x
+            .sigma_arcsec
+            .map_or("sigma undefined (0 dof)".into(), |s| format!("+- {s:.1}\""));
         note!(
-            "simulated {} dwells over {:.0} s; firmware fit: psi {:.4} deg +- {:.1}\" (truth {:.4})",
+            "simulated {} dwells over {:.0} s; firmware fit: psi {:.4} deg {sigma} (truth {:.4})",
             report.positions,
             world.t_s(),
             x.psi_deg,
-            x.sigma_arcsec,
             a.psi
         );
         if let Some(u) = report.under_noise {
