@@ -224,3 +224,66 @@ fn a_run_stopped_at_three_positions_reports_its_sigma_as_undefined() {
     assert_eq!(sigma_after(3), None);
     assert!(sigma_after(4).is_some_and(|s| s > 0.0));
 }
+
+#[test]
+fn recordings_with_a_bom_a_pole_or_repeated_rows() {
+    let rec = recording("rows.csv", "12");
+    let text = std::fs::read_to_string(&rec).unwrap();
+    let write = |name: &str, t: &str| {
+        let p = tmp(name);
+        std::fs::write(&p, t).unwrap();
+        p
+    };
+    // A spreadsheet's byte-order mark.
+    let bom = write("bom.csv", &format!("\u{FEFF}{text}"));
+    let (code, out, err) = nf(&["fit", &bom]);
+    assert!(code == 0 && out.contains("azimuth psi"), "{err}");
+    // The pole: no horizontal Earth rate, no north; never "psi NaN".
+    for lat in ["90", "-90", "nan", "inf"] {
+        let pole = write(
+            "pole.csv",
+            &text.replace("latitude_deg = 43.80000", &format!("latitude_deg = {lat}")),
+        );
+        let err = refused(&["fit", &pole], "line 2");
+        assert!(err.contains("latitude_deg"), "{err}");
+        refused(&["fit", &pole, "--json"], "latitude_deg");
+    }
+    // An exact copy of the last line: dropped with a warning naming both lines.
+    let last = text.lines().last().unwrap();
+    let n = text.lines().count();
+    let copy = write("copy.csv", &format!("{text}{last}\n"));
+    let (code, out, err) = nf(&["fit", &copy, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(&format!("warning: {copy}:{}: repeats line {n} exactly", n + 1)),
+        "{err}"
+    );
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["n"], 12);
+    // The same index with other values: an error naming both lines.
+    let other = write(
+        "other.csv",
+        &format!("{text}{}\n", last.replacen(",40.000,", ",41.000,", 1)),
+    );
+    let err = refused(&["fit", &other], &format!("appears on lines {n} and {}", n + 1));
+    assert!(err.contains("index 11"), "{err}");
+    // A run that visits each position twice: the same angles, no warning.
+    let fb = tmp("fb.csv");
+    let (code, _, err) = nf(&[
+        "simulate",
+        "--n",
+        "8",
+        "--order",
+        "forward-back",
+        "--dwell",
+        "0.5",
+        "-o",
+        &fb,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = nf(&["fit", &fb]);
+    assert!(
+        code == 0 && !err.contains("warning") && out.contains("16 positions"),
+        "{err}"
+    );
+}

@@ -1,10 +1,9 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
-use super::Fail;
+use super::{Fail, read_recording};
 use crate::diagnose::diagnose;
 use crate::plot::{Panel, Series, Style};
 use crate::range::above;
-use crate::recording::Recording;
 use crate::{diagnose, diagnose_eval, plot};
 use serde_json::{Value, json};
 use std::io::Write;
@@ -40,7 +39,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         .recording
         .as_deref()
         .ok_or_else(|| Fail("give a recording, or --evaluate".into(), 2))?;
-    let rec = Recording::read(path).map_err(|e| Fail(e.to_string(), 2))?;
+    let rec = read_recording(path)?;
     let d = diagnose(&rec, a.alpha).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
     if let Some(p) = &a.plot {
         let panel = |title: &str, pts: &[(f64, f64)]| Panel {

@@ -1,13 +1,12 @@
 //! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
 
-use super::Fail;
 use super::noise_args::NoiseArgs;
+use super::{Fail, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_fit::NoiseChoice;
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
 use crate::range::real;
-use crate::recording::Recording;
 use clap::ValueEnum;
 use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
@@ -111,7 +110,7 @@ fn fit_json(an: &Analysis) -> Value {
 }
 
 pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
-    let rec = Recording::read(&a.recording).map_err(|e| Fail(e.to_string(), 2))?;
+    let rec = read_recording(&a.recording)?;
     let opt = Options {
         tilt: match a.tilt {
             TiltArg::Auto => None,

@@ -9,6 +9,7 @@ mod paper;
 mod plan;
 mod simulate;
 
+use crate::recording::Recording;
 use allan::{AllanArgs, cmd_allan};
 use clap::{Parser, Subcommand};
 use diagnose::{DiagnoseArgs, cmd_diagnose};
@@ -101,6 +102,16 @@ pub fn main() -> ExitCode {
             ExitCode::from(code)
         }
     }
+}
+
+/// Reads a recording: a bad one is an error naming the line (exit code 2); what the reader
+/// accepted with a warning goes to standard error.
+pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
+    let rec = Recording::read(path).map_err(|e| Fail(e.to_string(), 2))?;
+    for w in &rec.warnings {
+        note!("nf: warning: {}", w.at(path));
+    }
+    Ok(rec)
 }
 
 pub(crate) fn write_out(out: &Option<String>, text: &str) -> Result<(), Fail> {
