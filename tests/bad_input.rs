@@ -287,3 +287,75 @@ fn recordings_with_a_bom_a_pole_or_repeated_rows() {
         "{err}"
     );
 }
+
+#[test]
+fn log_strips_colours_skips_invalid_utf8_and_notices_a_lost_rec_line() {
+    let rec = recording("for-log.csv", "12");
+    let text = std::fs::read_to_string(&rec).unwrap();
+    // probe-rs with colours: a time stamp, the level in green, a location line after each.
+    let mut log: Vec<Vec<u8>> =
+        vec![b"\x1b[2m0.000\x1b[0m \x1b[32mINFO \x1b[0m north finder \xff\xfe firmware".to_vec()];
+    for (i, l) in text.lines().enumerate() {
+        log.push(format!("\x1b[2m{i}.5\x1b[0m \x1b[32mINFO \x1b[0m rec {l}").into_bytes());
+        log.push("\x1b[2m└─ north_finder::firmware @ src/firmware.rs:90\x1b[0m".into());
+    }
+    let write = |name: &str, lines: &[Vec<u8>]| {
+        let p = tmp(name);
+        std::fs::write(&p, lines.join(&b'\n')).unwrap();
+        p
+    };
+    // Log line of the recording's line k (from 0): the banner, then two lines per line.
+    let log_line = |k: usize| 2 + 2 * k;
+    let clean = write("clean.log", &log);
+    let out = tmp("from-clean-log.csv");
+    let (code, _, err) = nf(&["log", &clean, "-o", &out]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+    assert!(
+        err.contains(&format!("{clean}:1: invalid UTF-8 skipped on line(s) 1")),
+        "{err}"
+    );
+    // A bad value: the error gives the line of the log, not of the recording extracted.
+    let first_row = text.lines().position(|l| l.starts_with("0,")).unwrap();
+    let mut bad = log.clone();
+    let mut cells: Vec<&str> = text.lines().nth(first_row + 2).unwrap().split(',').collect();
+    cells[3] = "fast";
+    bad[log_line(first_row + 2) - 1] = format!("INFO  rec {}", cells.join(",")).into_bytes();
+    let bad = write("bad.log", &bad);
+    refused(
+        &["log", &bad],
+        &format!("{bad}:{}: rate_dph 'fast'", log_line(first_row + 2)),
+    );
+    // A lost rec line (index 5): which index, between which lines of the log.
+    let mut lost = log.clone();
+    lost.remove(log_line(first_row + 5) - 1);
+    let lost = write("lost.log", &lost);
+    let err = refused(&["log", &lost], "index 5 (between log lines");
+    assert!(
+        err.contains(&format!(
+            "lines {} and {}",
+            log_line(first_row + 4),
+            log_line(first_row + 6) - 1
+        )),
+        "{err}"
+    );
+    assert!(err.contains("--allow-gaps"), "{err}");
+    let (code, out, err) = nf(&["log", &lost, "--allow-gaps"]);
+    assert!(
+        code == 0 && err.contains("warning") && err.contains("11 positions"),
+        "{err}"
+    );
+    assert_eq!(out.lines().count(), text.lines().count() - 1);
+    // Invalid UTF-8 inside a rec line: that line is dropped, and so shows as a gap.
+    let mut noisy = log.clone();
+    noisy[log_line(first_row + 3) - 1].insert(20, 0xff);
+    let noisy = write("noisy.log", &noisy);
+    let err = refused(&["log", &noisy], "index 3 (between");
+    assert!(
+        err.contains(&format!(
+            "{noisy}:{}: a 'rec' line with 1 invalid",
+            log_line(first_row + 3)
+        )),
+        "{err}"
+    );
+}
