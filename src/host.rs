@@ -114,14 +114,12 @@ pub fn main() -> ExitCode {
         virtual_s: world.t_s(),
         truth_deg: twin.instrument.psi_deg,
     };
-    match summary.print(&report) {
-        Ok(()) => {}
-        // The reader of standard output has gone (`cargo run | head`): nothing more to say.
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => return ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("cannot write to standard output: {e}");
-            return ExitCode::FAILURE;
-        }
+    // A reader of standard output that has gone (`cargo run | head`) is no failure.
+    if let Err(e) = summary.print(&report)
+        && e.kind() != std::io::ErrorKind::BrokenPipe
+    {
+        eprintln!("cannot write to standard output: {e}");
+        return ExitCode::FAILURE;
     }
     match report.result {
         Ok(()) => ExitCode::SUCCESS,
