@@ -1,10 +1,13 @@
 //! The main job on the host: one full north-finding run of the firmware logic against the
 //! digital twin, its log on stderr, the recording written to a file, and the result.
 
-use nf_instrument::run::{Fault, RunConfig};
+use clap::Parser;
+use nf::range::{MAX_LATITUDE_DEG, above, real};
+use nf_instrument::run::{Fault, RunConfig, RunReport};
 use nf_model::angle::wrap_180;
 use nf_model::order::Order;
 use nf_twin::{Recorder, TwinConfig, simulate, virtual_now_us};
+use std::io::Write;
 use std::process::ExitCode;
 
 struct VirtualTimeLogger;
@@ -28,53 +31,72 @@ impl log::Log for VirtualTimeLogger {
     fn flush(&self) {}
 }
 
-const USAGE: &str = "usage: north-finder [--seed N] [--positions N] [--order NAME|LIST] [--dwell-ms MS] [--target-arcsec S] [--psi DEG] [--lat DEG] [--tilt DEG] [--out FILE] [--quiet]";
-
-fn parse<T: std::str::FromStr>(flag: &str, v: Option<String>) -> Result<T, String> {
-    let v = v.ok_or_else(|| format!("{flag} needs a value\n{USAGE}"))?;
-    v.parse()
-        .map_err(|_| format!("{flag}: '{v}' is not a valid value\n{USAGE}"))
+/// One run of the firmware logic against the twin; the defaults are the paper's run.
+#[derive(Parser)]
+#[command(name = "north-finder", version)]
+struct Args {
+    /// The twin's random seed.
+    #[arg(long, default_value_t = TwinConfig::default().seed, allow_hyphen_values = true)]
+    seed: u64,
+    /// Positions per turn.
+    #[arg(long, default_value_t = RunConfig::DEFAULT.positions, allow_hyphen_values = true,
+          value_parser = clap::value_parser!(u16).range(4..=720))]
+    positions: u16,
+    /// Visiting order: a name (sequential, forward-back, opposite-pairs, ...) or a list of positions.
+    #[arg(long, default_value = "sequential")]
+    order: String,
+    /// Dwell per position, ms.
+    #[arg(long, default_value_t = RunConfig::DEFAULT.dwell_ms, allow_hyphen_values = true,
+          value_parser = clap::value_parser!(u32).range(10..=600_000))]
+    dwell_ms: u32,
+    /// End the run when the running sigma under the noise model reaches this, arcsec.
+    #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 36_000.0))]
+    target_arcsec: Option<f64>,
+    /// The twin's true azimuth psi (Eq. 7), deg.
+    #[arg(long, default_value_t = TwinConfig::default().instrument.psi_deg, allow_hyphen_values = true,
+          value_parser = real(-360.0, 360.0))]
+    psi: f64,
+    /// Latitude, deg.
+    #[arg(long, default_value_t = TwinConfig::default().instrument.latitude_deg, allow_hyphen_values = true,
+          value_parser = real(-MAX_LATITUDE_DEG, MAX_LATITUDE_DEG))]
+    lat: f64,
+    /// The twin's shaft tilt, deg.
+    #[arg(long, default_value_t = TwinConfig::default().instrument.tilt_deg, allow_hyphen_values = true,
+          value_parser = real(0.0, 10.0))]
+    tilt: f64,
+    /// Where the recording goes.
+    #[arg(long, default_value = "north-finder-run.csv")]
+    out: String,
+    /// No run log on stderr.
+    #[arg(long)]
+    quiet: bool,
 }
 
 pub fn main() -> ExitCode {
-    let mut twin = TwinConfig::default();
-    let mut cfg = RunConfig::default();
-    let mut out = String::from("north-finder-run.csv");
-    let mut quiet = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let r = match a.as_str() {
-            "--seed" => parse(&a, args.next()).map(|v| twin.seed = v),
-            "--positions" => parse(&a, args.next()).map(|v| cfg.positions = v),
-            "--order" => parse::<String>(&a, args.next()).and_then(|v| {
-                cfg.order = Order::parse(&v).map_err(|e| format!("--order: {e}\n{USAGE}"))?;
-                Ok(())
-            }),
-            "--target-arcsec" => parse(&a, args.next()).map(|v| cfg.target_arcsec = v),
-            "--dwell-ms" => parse(&a, args.next()).map(|v| cfg.dwell_ms = v),
-            "--psi" => parse(&a, args.next()).map(|v| twin.instrument.psi_deg = v),
-            "--lat" => parse(&a, args.next()).map(|v: f64| {
-                twin.instrument.latitude_deg = v;
-                cfg.latitude_deg = v as f32;
-            }),
-            "--tilt" => parse(&a, args.next()).map(|v| twin.instrument.tilt_deg = v),
-            "--out" => parse(&a, args.next()).map(|v| out = v),
-            "--quiet" => {
-                quiet = true;
-                Ok(())
-            }
-            "-h" | "--help" => {
-                println!("{USAGE}");
-                return ExitCode::SUCCESS;
-            }
-            _ => Err(format!("unknown argument '{a}'\n{USAGE}")),
-        };
-        if let Err(e) = r {
-            eprintln!("{e}");
+    let a = Args::parse();
+    let order = match Order::parse(&a.order).and_then(|o| o.check(a.positions).map(|()| o)) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("error: invalid value '{}' for '--order': {e}", a.order);
             return ExitCode::from(2);
         }
-    }
-    if !quiet {
+    };
+    let mut twin = TwinConfig {
+        seed: a.seed,
+        ..TwinConfig::default()
+    };
+    twin.instrument.psi_deg = a.psi;
+    twin.instrument.latitude_deg = a.lat;
+    twin.instrument.tilt_deg = a.tilt;
+    let cfg = RunConfig {
+        positions: a.positions,
+        order,
+        dwell_ms: a.dwell_ms,
+        target_arcsec: a.target_arcsec.unwrap_or(0.0) as f32,
+        latitude_deg: a.lat as f32,
+        ..RunConfig::default()
+    };
+    if !a.quiet {
         log::set_logger(&VirtualTimeLogger).ok();
         log::set_max_level(log::LevelFilter::Info);
     }
@@ -82,56 +104,22 @@ pub fn main() -> ExitCode {
     let mut rec = Recorder::default();
     let (report, world) = simulate(&twin, &cfg, &mut rec);
     let wall = wall.elapsed();
-    if let Err(e) = std::fs::write(&out, rec.text()) {
-        eprintln!("cannot write the recording to {out}: {e}");
+    if let Err(e) = std::fs::write(&a.out, rec.text()) {
+        eprintln!("cannot write the recording to {}: {e}", a.out);
         return ExitCode::FAILURE;
     }
-    println!(
-        "run of {:.1} s (virtual) in {:.3} s: {} positions recorded to {out}",
-        world.t_s(),
-        wall.as_secs_f64(),
-        report.positions
-    );
-    if let Some(l) = report.levelling {
-        println!(
-            "levelling (Eq. 32): shaft tilt {:.4} deg towards {:.1} deg",
-            l.tilt_deg, l.tilt_dir_deg
-        );
-    }
-    if let Some(a) = report.azimuth {
-        let truth = twin.instrument.psi_deg;
-        let err = wrap_180(a.psi_deg as f64 - truth) * 3600.0;
-        println!("azimuth psi       {:.5} deg (Eq. 7 convention)", a.psi_deg);
-        println!(
-            "surveying azimuth {:.5} deg of the gamma = 0 direction",
-            nf_model::angle::surveying_azimuth_deg(a.psi_deg)
-        );
-        println!(
-            "uncertainty       {:.2} arcsec (1 sigma, from the residuals)",
-            a.sigma_arcsec
-        );
-        println!("residual SS       {:.6} (deg/h)^2 over {} positions", a.rss, a.n);
-        println!(
-            "amplitude         {:.4} deg/h, offset {:.4} deg/h",
-            a.amplitude_dph, a.offset_dph
-        );
-        println!(
-            "twin's true psi   {truth:.5} deg: error {err:+.2} arcsec = {:+.2} sigma",
-            err / a.sigma_arcsec as f64
-        );
-    }
-    if let Some(u) = report.under_noise {
-        println!(
-            "under the noise model: psi {:.5} deg +- {:.2} arcsec after {} dwells{}",
-            u.psi_deg,
-            u.sigma_psi_deg * 3600.0,
-            u.dwells,
-            if report.target_reached {
-                " (target reached, run ended early)"
-            } else {
-                ""
-            }
-        );
+    let summary = Summary {
+        out: &a.out,
+        wall_s: wall.as_secs_f64(),
+        virtual_s: world.t_s(),
+        truth_deg: twin.instrument.psi_deg,
+    };
+    // A reader of standard output that has gone (`cargo run | head`) is no failure.
+    if let Err(e) = summary.print(&report)
+        && e.kind() != std::io::ErrorKind::BrokenPipe
+    {
+        eprintln!("cannot write to standard output: {e}");
+        return ExitCode::FAILURE;
     }
     match report.result {
         Ok(()) => ExitCode::SUCCESS,
@@ -143,5 +131,70 @@ pub fn main() -> ExitCode {
             eprintln!("run failed at {:?}: {what}", e.stage);
             ExitCode::FAILURE
         }
+    }
+}
+
+/// What the run's summary on standard output needs besides the report.
+struct Summary<'a> {
+    out: &'a str,
+    wall_s: f64,
+    virtual_s: f64,
+    truth_deg: f64,
+}
+
+impl Summary<'_> {
+    fn print(&self, report: &RunReport) -> std::io::Result<()> {
+        let mut o = std::io::stdout().lock();
+        writeln!(
+            o,
+            "run of {:.1} s (virtual) in {:.3} s: {} positions recorded to {}",
+            self.virtual_s, self.wall_s, report.positions, self.out
+        )?;
+        if let Some(l) = report.levelling {
+            writeln!(
+                o,
+                "levelling (Eq. 32): shaft tilt {:.4} deg towards {:.1} deg",
+                l.tilt_deg, l.tilt_dir_deg
+            )?;
+        }
+        if let Some(a) = report.azimuth {
+            let err = wrap_180(a.psi_deg as f64 - self.truth_deg) * 3600.0;
+            writeln!(o, "azimuth psi       {:.5} deg (Eq. 7 convention)", a.psi_deg)?;
+            writeln!(
+                o,
+                "surveying azimuth {:.5} deg of the gamma = 0 direction",
+                nf_model::angle::surveying_azimuth_deg(a.psi_deg)
+            )?;
+            match a.sigma_arcsec {
+                Some(s) => writeln!(o, "uncertainty       {s:.2} arcsec (1 sigma, from the residuals)")?,
+                None => writeln!(o, "uncertainty       undefined (0 dof: as many unknowns as positions)")?,
+            }
+            writeln!(o, "residual SS       {:.6} (deg/h)^2 over {} positions", a.rss, a.n)?;
+            writeln!(
+                o,
+                "amplitude         {:.4} deg/h, offset {:.4} deg/h",
+                a.amplitude_dph, a.offset_dph
+            )?;
+            write!(o, "twin's true psi   {:.5} deg: error {err:+.2} arcsec", self.truth_deg)?;
+            match a.sigma_arcsec {
+                Some(s) => writeln!(o, " = {:+.2} sigma", err / s as f64)?,
+                None => writeln!(o)?,
+            }
+        }
+        if let Some(u) = report.under_noise {
+            writeln!(
+                o,
+                "under the noise model: psi {:.5} deg +- {:.2} arcsec after {} dwells{}",
+                u.psi_deg,
+                u.sigma_psi_deg * 3600.0,
+                u.dwells,
+                if report.target_reached {
+                    " (target reached, run ended early)"
+                } else {
+                    ""
+                }
+            )?;
+        }
+        o.flush()
     }
 }

@@ -44,7 +44,7 @@ fn reported_uncertainty_is_honest_over_120_random_instruments() {
         assert_eq!(rec.records(), 24);
         let a = report.azimuth.unwrap();
         let err = wrap_180(a.psi_deg as f64 - twin.instrument.psi_deg) * 3600.0;
-        z.push(err / a.sigma_arcsec as f64);
+        z.push(err / a.sigma_arcsec.unwrap() as f64);
     }
     let mean = z.iter().sum::<f64>() / z.len() as f64;
     let sd = (z.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (z.len() - 1) as f64).sqrt();

@@ -183,8 +183,9 @@ pub struct RunError {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Azimuth {
     pub psi_deg: f32,
-    /// Standard error of `psi` from the residuals.
-    pub sigma_arcsec: f32,
+    /// Standard error of `psi` from the residuals; `None` (undefined) with no degrees of
+    /// freedom, when the positions are as many as the unknowns.
+    pub sigma_arcsec: Option<f32>,
     pub amplitude_dph: f32,
     pub offset_dph: f32,
     pub rss: f32,
@@ -479,7 +480,7 @@ where
 fn summary(r: &FitResult<f32>) -> Azimuth {
     Azimuth {
         psi_deg: r.psi_deg,
-        sigma_arcsec: r.sigma_psi_deg * 3600.0,
+        sigma_arcsec: (r.dof > 0).then_some(r.sigma_psi_deg * 3600.0),
         amplitude_dph: r.amplitude_dph,
         offset_dph: r.offset_dph,
         rss: r.rss,
@@ -585,13 +586,15 @@ where
                 "position {}: gamma {} deg, rate {} deg/h, sd {}",
                 k, obs.gamma_deg, obs.rate_dph, rec.rate_sd_dph as f32
             );
-            if let Ok(r) = fit.solve() {
-                info!(
+            match fit.solve() {
+                Ok(r) if r.dof > 0 => info!(
                     "running azimuth {} deg +- {} arcsec after {} positions",
                     r.psi_deg,
                     r.sigma_psi_deg * 3600.0,
                     r.n
-                );
+                ),
+                Ok(r) => info!("running azimuth {} deg, sigma undefined (0 dof)", r.psi_deg),
+                Err(_) => {}
             }
             let r = ctx.under_noise(&mut running, &rec)?;
             report.under_noise = Some(r);
@@ -623,10 +626,16 @@ where
         Err(_) => {}
     }
     match (&report.result, &report.azimuth) {
-        (Ok(()), Some(a)) => info!(
-            "result: psi {} deg +- {} arcsec, amplitude {} deg/h, rss {} (deg/h)^2, n {}",
-            a.psi_deg, a.sigma_arcsec, a.amplitude_dph, a.rss, a.n
-        ),
+        (Ok(()), Some(a)) => match a.sigma_arcsec {
+            Some(s) => info!(
+                "result: psi {} deg +- {} arcsec, amplitude {} deg/h, rss {} (deg/h)^2, n {}",
+                a.psi_deg, s, a.amplitude_dph, a.rss, a.n
+            ),
+            None => info!(
+                "result: psi {} deg, sigma undefined (0 dof), amplitude {} deg/h, n {}",
+                a.psi_deg, a.amplitude_dph, a.n
+            ),
+        },
         (Err(e), _) => error!("run ended: {:?}; {} positions kept", e, report.positions),
         _ => {}
     }

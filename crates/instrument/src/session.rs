@@ -164,7 +164,11 @@ impl Session {
                 let _ = l.push_str(" psi ");
                 let _ = write_fixed(&mut l, a.psi_deg as f64, 5);
                 let _ = l.push_str(" sigma_arcsec ");
-                let _ = write_fixed(&mut l, a.sigma_arcsec as f64, 2);
+                let _ = match a.sigma_arcsec {
+                    Some(s) => write_fixed(&mut l, s as f64, 2),
+                    // No degrees of freedom: zero would claim a perfect azimuth.
+                    None => l.write_str("undefined"),
+                };
             }
             if let Some(u) = r.under_noise {
                 let _ = l.push_str(" under_noise_sigma_arcsec ");

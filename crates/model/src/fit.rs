@@ -312,6 +312,8 @@ pub struct FitResult<F> {
     pub s2: F,
     pub n: u32,
     pub dof: u32,
+    /// Standard errors from the residuals: NaN, undefined, when `dof` is 0 (as many unknowns
+    /// as positions leave no residual to measure the noise by; zero would claim perfection).
     pub sigma_psi_deg: F,
     pub sigma_amplitude_dph: F,
     pub sigma_offset_dph: F,
@@ -382,6 +384,8 @@ impl<F: Float> AzimuthFit<F> {
         );
         let var_psi = (b * b * vaa + a * a * vbb - c::<F>(2.0) * a * b * vab) / (r2 * r2);
         let var_amp = (a * a * vaa + b * b * vbb + c::<F>(2.0) * a * b * vab) / r2;
+        // Rounding can leave a variance a hair below zero; NaN (no dof) must stay NaN.
+        let sd = |v: F| if v.is_nan() { v } else { v.max(F::zero()).sqrt() };
         Ok(FitResult {
             cfg: self.cfg,
             psi_deg: atan2_deg(-b, a),
@@ -391,9 +395,9 @@ impl<F: Float> AzimuthFit<F> {
             s2,
             n: sol.n,
             dof,
-            sigma_psi_deg: var_psi.max(F::zero()).sqrt().to_degrees(),
-            sigma_amplitude_dph: var_amp.max(F::zero()).sqrt(),
-            sigma_offset_dph: (sol.cov_unit(0, 0) * s2).max(F::zero()).sqrt(),
+            sigma_psi_deg: sd(var_psi).to_degrees(),
+            sigma_amplitude_dph: sd(var_amp),
+            sigma_offset_dph: sd(sol.cov_unit(0, 0) * s2),
             t0_s: self.t0.unwrap_or(F::zero()),
             sol,
         })

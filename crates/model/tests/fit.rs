@@ -296,3 +296,25 @@ fn every_bad_input_is_refused_with_its_reason() {
     let flat: Vec<Obs<f64>> = (0..8).map(|i| Obs::new(i as f64 * 45.0, 1.0)).collect();
     assert_eq!(AzimuthFit::fit_all(cfg, &flat).unwrap_err(), FitError::NoSignal);
 }
+
+#[test]
+fn zero_degrees_of_freedom_leave_the_sigmas_undefined() {
+    // Three positions for C, A and B: the azimuth is exact, the noise is not measured.
+    let rate = |g: f64| 0.3 + 10.0 * (g + 65.0).to_radians().cos();
+    let obs: Vec<Obs<f64>> = [0.0, 120.0, 240.0].iter().map(|&g| Obs::new(g, rate(g))).collect();
+    let r = AzimuthFit::fit_all(FitConfig::default(), &obs).unwrap();
+    assert_eq!((r.n, r.dof), (3, 0));
+    assert!((wrap_180(r.psi_deg - 65.0)).abs() < 1e-9);
+    assert!(r.s2.is_nan() && r.sigma_psi_deg.is_nan(), "{}", r.sigma_psi_deg);
+    assert!(r.sigma_amplitude_dph.is_nan() && r.sigma_offset_dph.is_nan());
+    let obs32: Vec<Obs<f32>> = obs
+        .iter()
+        .map(|o| Obs::new(o.gamma_deg as f32, o.rate_dph as f32))
+        .collect();
+    assert!(
+        AzimuthFit::fit_all(FitConfig::default(), &obs32)
+            .unwrap()
+            .sigma_psi_deg
+            .is_nan()
+    );
+}

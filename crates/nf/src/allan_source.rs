@@ -162,6 +162,7 @@ fn from_recording(rec: &Recording, override_hz: Option<f64>) -> Result<Source, E
         "a recording: its dwell means in time order, so only averaging times of a dwell cycle and longer are visible"
             .to_string(),
     ];
+    notes.extend(rec.warnings.iter().map(Error::to_string));
     let rates = match linfit::fit(&[ones.clone(), cos, sin], &y) {
         Some(ls) => {
             notes.push("the Earth-rate harmonic and the bias (A cos + B sin + C, least squares) are removed first: the slowest noise is partly absorbed".into());

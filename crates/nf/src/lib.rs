@@ -17,6 +17,7 @@ pub mod paper;
 pub mod plan;
 pub mod plan_noise;
 pub mod plot;
+pub mod range;
 pub mod recording;
 pub mod schedule;
 pub mod static_log;

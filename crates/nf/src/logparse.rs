@@ -2,31 +2,170 @@
 //!
 //! The firmware logs every recording line as `rec <line>`. Printers put a time stamp, the
 //! level and sometimes the location around the message, and may put the location on a
-//! following `└─` line; all of that is dropped.
+//! following `└─` line; all of that is dropped, and so are colour codes. Invalid UTF-8 (line
+//! noise on the probe's link) is skipped with a warning; a `rec` line that had some is dropped,
+//! since its values cannot be trusted, and shows as a missing index.
+
+use crate::recording::Row;
+use crate::textfile::Error;
+use std::borrow::Cow;
+
+/// What a log holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Log {
+    /// The recording lines, each with its line in the log (from 1).
+    pub rec: Vec<(usize, String)>,
+    /// Invalid UTF-8 skipped and `rec` lines dropped for it.
+    pub warnings: Vec<Error>,
+}
+
+impl Log {
+    /// The recording as it is written out.
+    pub fn recording(&self) -> String {
+        self.rec.iter().map(|(_, l)| format!("{l}\n")).collect()
+    }
+
+    /// The recording with each line on its line of the log (blank lines between), so that the
+    /// reader's line numbers are the log's.
+    pub fn on_log_lines(&self) -> String {
+        let mut out = String::new();
+        let mut at = 1;
+        for (n, l) in &self.rec {
+            out.extend(std::iter::repeat_n('\n', n - at));
+            out += l;
+            out.push('\n');
+            at = n + 1;
+        }
+        out
+    }
+}
 
 /// The recording lines found in a log, in order.
-pub fn extract(log: &str) -> Vec<String> {
+pub fn extract(log: &[u8]) -> Log {
+    let log = log.strip_prefix("\u{FEFF}".as_bytes()).unwrap_or(log);
+    let (mut rec, mut warnings, mut noisy) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, raw) in log.split(|&b| b == b'\n').enumerate() {
+        let n = i + 1;
+        let (text, bad) = valid_utf8(raw);
+        let Some(msg) = rec_message(&strip_colour(&text)) else {
+            if bad > 0 {
+                noisy.push(n);
+            }
+            continue;
+        };
+        if bad > 0 {
+            warnings.push(Error {
+                line: n,
+                what: format!("a 'rec' line with {bad} invalid UTF-8 byte(s) is dropped: its values cannot be trusted"),
+            });
+        } else {
+            rec.push((n, msg));
+        }
+    }
+    if let Some(&first) = noisy.first() {
+        let list: Vec<String> = noisy.iter().take(8).map(usize::to_string).collect();
+        let more = if noisy.len() > 8 {
+            format!(" and {} more", noisy.len() - 8)
+        } else {
+            String::new()
+        };
+        warnings.insert(
+            0,
+            Error {
+                line: first,
+                what: format!("invalid UTF-8 skipped on line(s) {}{more}", list.join(", ")),
+            },
+        );
+    }
+    Log { rec, warnings }
+}
+
+/// The text of a line with its invalid UTF-8 left out, and how many bytes that was.
+fn valid_utf8(raw: &[u8]) -> (Cow<'_, str>, usize) {
+    if let Ok(s) = std::str::from_utf8(raw) {
+        return (Cow::Borrowed(s), 0);
+    }
+    let (mut s, mut bad) = (String::new(), 0);
+    for c in raw.utf8_chunks() {
+        s += c.valid();
+        bad += c.invalid().len();
+    }
+    (Cow::Owned(s), bad)
+}
+
+/// The line without ANSI escape sequences (probe-rs colours the level and location).
+fn strip_colour(l: &str) -> Cow<'_, str> {
+    if !l.contains('\x1b') {
+        return Cow::Borrowed(l);
+    }
+    let mut out = String::with_capacity(l.len());
+    let mut chars = l.chars();
+    while let Some(c) = chars.next() {
+        if c != '\x1b' {
+            out.push(c);
+        } else if chars.next() == Some('[') {
+            // Control sequence: parameters up to a final byte in '@'..='~'.
+            for c in chars.by_ref() {
+                if ('@'..='~').contains(&c) {
+                    break;
+                }
+            }
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// The recording line a log line carries, if it is a `rec` message.
+fn rec_message(l: &str) -> Option<String> {
+    let l = l.trim_end_matches('\r');
+    let pos = find_tag(l)?;
+    let mut msg = l[pos + 4..].trim();
+    // A location printed on the same line.
+    if let Some(i) = msg.find("└─") {
+        msg = msg[..i].trim_end();
+    }
+    if let Some(i) = msg
+        .rfind(" (")
+        .filter(|&i| msg.ends_with(')') && msg[i..].contains(".rs:"))
+    {
+        msg = msg[..i].trim_end();
+    }
+    if msg.starts_with('#') {
+        Some(msg.to_string())
+    } else {
+        // Data and header lines have no spaces: anything after them is the printer's.
+        msg.split_whitespace().next().map(str::to_string)
+    }
+}
+
+/// A run of indices missing from a log: positions whose `rec` line was lost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Gap {
+    pub first: u32,
+    pub last: u32,
+    /// Log lines of the positions on either side (none before index 0).
+    pub after_line: Option<usize>,
+    pub before_line: usize,
+}
+
+/// The indices missing below the highest one seen. Missing ones after it are not seen: a log
+/// cut short, or a run that ended early, just ends.
+pub fn gaps(rows: &[Row]) -> Vec<Gap> {
+    let mut by_index: Vec<&Row> = rows.iter().collect();
+    by_index.sort_by_key(|r| r.index);
     let mut out = Vec::new();
-    for raw in log.lines() {
-        let l = raw.trim_end_matches('\r');
-        let Some(pos) = find_tag(l) else { continue };
-        let mut msg = l[pos + 4..].trim();
-        // A location printed on the same line.
-        if let Some(i) = msg.find("└─") {
-            msg = msg[..i].trim_end();
+    let mut prev: Option<&Row> = None;
+    for r in by_index {
+        let first = prev.map_or(0, |p| p.index + 1);
+        if r.index > first {
+            out.push(Gap {
+                first,
+                last: r.index - 1,
+                after_line: prev.map(|p| p.line),
+                before_line: r.line,
+            });
         }
-        if let Some(i) = msg
-            .rfind(" (")
-            .filter(|&i| msg.ends_with(')') && msg[i..].contains(".rs:"))
-        {
-            msg = msg[..i].trim_end();
-        }
-        if msg.starts_with('#') {
-            out.push(msg.to_string());
-        } else if let Some(tok) = msg.split_whitespace().next() {
-            // Data and header lines have no spaces: anything after them is the printer's.
-            out.push(tok.to_string());
-        }
+        prev = Some(r);
     }
     out
 }
@@ -69,7 +208,7 @@ INFO rec index,t_s,encoder_deg,rate_dph
 12.5 INFO  rec 0,1.25,0.0000000,4.495000 └─ north_finder::firmware @ src/firmware.rs:90
 WARN  inclinometer: bad line dropped
 ";
-        let lines = extract(log);
+        let lines: Vec<String> = extract(log.as_bytes()).rec.into_iter().map(|(_, l)| l).collect();
         assert_eq!(
             lines,
             vec![
@@ -83,6 +222,56 @@ WARN  inclinometer: bad line dropped
 
     #[test]
     fn a_message_that_mentions_rec_is_not_a_line() {
-        assert!(extract("INFO  the rec button was pressed").is_empty());
+        assert!(extract(b"INFO  the rec button was pressed").rec.is_empty());
+    }
+
+    #[test]
+    fn colours_invalid_utf8_and_the_log_s_line_numbers() {
+        let mut log = b"\x1b[2m0.1\x1b[0m \x1b[32mINFO \x1b[0m rec # format = northfinder-recording/1\n".to_vec();
+        log.extend_from_slice(b"noise \xff\xfe here\n");
+        log.extend_from_slice(b"INFO  rec # latitude_deg = 4\xc3\n");
+        log.extend_from_slice(b"INFO  rec index,t_s\r\n");
+        let l = extract(&log);
+        assert_eq!(
+            l.rec,
+            vec![
+                (1, "# format = northfinder-recording/1".to_string()),
+                (4, "index,t_s".to_string())
+            ]
+        );
+        assert_eq!(l.warnings.iter().map(|w| w.line).collect::<Vec<_>>(), [2, 3]);
+        assert!(l.warnings[0].what.contains("skipped on line(s) 2"), "{:?}", l.warnings);
+        assert!(l.warnings[1].what.contains("dropped"), "{:?}", l.warnings);
+        assert_eq!(l.on_log_lines(), "# format = northfinder-recording/1\n\n\nindex,t_s\n");
+        assert_eq!(l.recording(), "# format = northfinder-recording/1\nindex,t_s\n");
+    }
+
+    #[test]
+    fn gaps_name_the_missing_indices_and_the_lines_around() {
+        let row = |index, line| Row {
+            line,
+            index,
+            t_s: 0.0,
+            encoder_deg: 0.0,
+            rate_dph: 0.0,
+            rate_sd_dph: None,
+            samples: None,
+            temp_c: None,
+            tilt_x_deg: None,
+            tilt_y_deg: None,
+            quarters_dph: None,
+        };
+        let rows = [row(1, 10), row(2, 12), row(5, 20), row(6, 22)];
+        let g = gaps(&rows);
+        assert_eq!(g.len(), 2);
+        assert_eq!(
+            (g[0].first, g[0].last, g[0].after_line, g[0].before_line),
+            (0, 0, None, 10)
+        );
+        assert_eq!(
+            (g[1].first, g[1].last, g[1].after_line, g[1].before_line),
+            (3, 4, Some(12), 20)
+        );
+        assert!(gaps(&rows[..2][1..]).len() == 1 && gaps(&[row(0, 3), row(1, 4)]).is_empty());
     }
 }

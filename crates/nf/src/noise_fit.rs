@@ -97,7 +97,10 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
     let t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
     let (dwell_s, dwell_from) = dwell_of(rec);
     if n <= p {
-        return Err(format!("{n} positions, the fit needs more than {p}"));
+        return Err(format!(
+            "{n} positions for {p} unknowns: no degrees of freedom are left to measure the noise by, so the azimuth's uncertainty is undefined; the fit needs at least {}",
+            p + 1
+        ));
     }
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
     let (model, source, fits) = match choice {

@@ -1,6 +1,10 @@
 //! Reading recordings (`shared/recording-format.md`) written by any program: columns in any
 //! order, extra columns and metadata ignored, optional columns may be missing. A malformed
 //! line is an error that names the line and the problem; nothing is guessed.
+//!
+//! `index` is the visit number, so a repeated index is a duplicate: an error naming both lines,
+//! unless the two lines are the same, when the copy is dropped with a warning. The same encoder
+//! angle on two rows is fine: a run may visit a position twice (`order = forward-back`).
 
 pub use crate::textfile::Error;
 use crate::textfile::{Head, err, number, optional as optional_cell};
@@ -32,6 +36,8 @@ pub struct Recording {
     /// Every metadata key, known or not, as written.
     pub meta: BTreeMap<String, String>,
     pub rows: Vec<Row>,
+    /// What the reader accepted but the user should hear of (a dropped copy of a line).
+    pub warnings: Vec<Error>,
 }
 
 const REQUIRED: [&str; 4] = ["index", "t_s", "encoder_deg", "rate_dph"];
@@ -41,13 +47,22 @@ impl Recording {
         let head = Head::parse(text)?;
         head.require_format(FORMAT)?;
         let meta = head.meta.clone();
+        let at = head.meta_line("latitude_deg");
         let latitude_deg: f64 = match meta.get("latitude_deg") {
             None => return err(0, "required metadata 'latitude_deg' is missing"),
             Some(v) => match v.parse::<f64>() {
-                Ok(l) if (-90.0..=90.0).contains(&l) => l,
+                Ok(l) if l.abs() < 90.0 => l,
+                Ok(l) if l.abs() == 90.0 => {
+                    return err(
+                        at,
+                        format!(
+                            "latitude_deg {v} is a pole: the Earth rate has no horizontal component there, so there is no north to find"
+                        ),
+                    );
+                }
                 _ => {
                     return err(
-                        0,
+                        at,
                         format!("latitude_deg '{v}' is not a latitude in degrees (-90 to 90)"),
                     );
                 }
@@ -56,6 +71,8 @@ impl Recording {
         head.require_columns(&REQUIRED)?;
         let col = |name: &str| head.col(name).expect("required column");
         let mut rows = Vec::new();
+        let mut warnings = Vec::new();
+        let mut seen: BTreeMap<u32, (usize, Vec<&str>)> = BTreeMap::new();
         for row in head.rows(text) {
             let (n, cells) = row?;
             let num = |name: &str| number(n, name, cells[col(name)]);
@@ -69,6 +86,26 @@ impl Recording {
                     n,
                     format!("index '{}' is not a whole number from 0", cells[col("index")]),
                 );
+            }
+            match seen.get(&(index as u32)) {
+                Some((first, c)) if *c == cells => {
+                    warnings.push(Error {
+                        line: n,
+                        what: format!("repeats line {first} exactly (index {index}): the copy is dropped"),
+                    });
+                    continue;
+                }
+                Some((first, _)) => {
+                    return err(
+                        n,
+                        format!(
+                            "index {index} appears on lines {first} and {n} with different values: each visit has its own index"
+                        ),
+                    );
+                }
+                None => {
+                    seen.insert(index as u32, (n, cells.clone()));
+                }
             }
             let encoder_deg = num("encoder_deg")?;
             if !(0.0..360.0).contains(&encoder_deg) {
@@ -113,6 +150,7 @@ impl Recording {
             latitude_deg,
             meta,
             rows,
+            warnings,
         })
     }
 

@@ -54,6 +54,8 @@ pub fn unquote(s: &str) -> &str {
 pub struct Head<'a> {
     /// Every metadata key, known or not, as written.
     pub meta: BTreeMap<String, String>,
+    /// The line of each metadata key.
+    meta_at: BTreeMap<String, usize>,
     /// Line number of the header (from 1).
     pub line: usize,
     pub header: &'a str,
@@ -64,13 +66,20 @@ pub struct Head<'a> {
 impl<'a> Head<'a> {
     pub fn parse(text: &'a str) -> Result<Head<'a>, Error> {
         let mut meta = BTreeMap::new();
+        let mut meta_at = BTreeMap::new();
         for (i, l) in text.lines().enumerate() {
+            // A byte-order mark, as spreadsheet programs write UTF-8, is not part of the text.
+            let l = if i == 0 {
+                l.strip_prefix('\u{FEFF}').unwrap_or(l)
+            } else {
+                l
+            };
             let (n, t) = (i + 1, l.trim());
             if t.is_empty() {
                 continue;
             }
             let Some(m) = t.strip_prefix('#') else {
-                return Head::header(meta, n, t);
+                return Head::header(meta, meta_at, n, t);
             };
             let Some((k, v)) = m.split_once('=') else {
                 return err(
@@ -85,11 +94,17 @@ impl<'a> Head<'a> {
             if meta.insert(k.clone(), v).is_some() {
                 return err(n, format!("metadata key '{k}' given twice"));
             }
+            meta_at.insert(k, n);
         }
         err(0, "no header line: the file ends before the column names")
     }
 
-    fn header(meta: BTreeMap<String, String>, line: usize, header: &'a str) -> Result<Head<'a>, Error> {
+    fn header(
+        meta: BTreeMap<String, String>,
+        meta_at: BTreeMap<String, usize>,
+        line: usize,
+        header: &'a str,
+    ) -> Result<Head<'a>, Error> {
         let names: Vec<&str> = header.split(',').map(unquote).collect();
         let mut col = BTreeMap::new();
         for (i, name) in names.iter().enumerate() {
@@ -99,11 +114,17 @@ impl<'a> Head<'a> {
         }
         Ok(Head {
             meta,
+            meta_at,
             line,
             header,
             names,
             col,
         })
+    }
+
+    /// The line of a metadata key (0 when it is missing).
+    pub fn meta_line(&self, key: &str) -> usize {
+        self.meta_at.get(key).copied().unwrap_or(0)
     }
 
     /// The `format` metadata must be `want`.
@@ -188,6 +209,10 @@ mod tests {
         assert_eq!(rows[1].as_ref().unwrap_err().line, 7);
         assert_eq!(h.require_columns(&["t_s", "q"]).unwrap_err().line, 4);
         assert_eq!(Head::parse("# a = 1\n# a = 2\nx\n").unwrap_err().line, 2);
+        assert_eq!(h.meta_line("a"), 3);
+        let bom = Head::parse("\u{FEFF}# format = x/1\nt_s\n").unwrap();
+        assert!(bom.require_format("x/1").is_ok());
+        assert_eq!(Head::parse("\u{FEFF}t_s,x\n").unwrap().col("t_s"), Some(0));
         assert_eq!(
             number(3, "t_s", "inf").unwrap_err().to_string(),
             "line 3: t_s 'inf' is not a finite number"

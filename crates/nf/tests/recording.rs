@@ -76,13 +76,28 @@ fn every_bad_recording_names_the_line_and_the_problem() {
         ),
         (
             "# format = northfinder-recording/1\n# latitude_deg = 91\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
-            0,
+            2,
             "not a latitude",
         ),
         (
             "# format = northfinder-recording/1\n# latitude_deg = north\nindex,t_s,encoder_deg,rate_dph\n",
-            0,
+            2,
             "not a latitude",
+        ),
+        (
+            "# format = northfinder-recording/1\n# latitude_deg = nan\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            2,
+            "not a latitude",
+        ),
+        (
+            "# format = northfinder-recording/1\n# latitude_deg = 90\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            2,
+            "is a pole",
+        ),
+        (
+            "# latitude_deg = -90\n# format = northfinder-recording/1\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            1,
+            "no north to find",
         ),
         ("# format = northfinder-recording/1\n# latitude_deg\n", 2, "without '='"),
         (
@@ -120,7 +135,7 @@ fn every_bad_recording_names_the_line_and_the_problem() {
         ("0,nan,0,1", "t_s 'nan' is not a finite number"),
     ];
     for (row, what) in rows {
-        let text = format!("{HEAD}0,0.5,10,1\n{row}\n");
+        let text = format!("{HEAD}9,0.5,10,1\n{row}\n");
         let (l, msg) = error(&text);
         assert_eq!(l, 5, "{msg}");
         assert!(
@@ -144,4 +159,32 @@ fn every_bad_recording_names_the_line_and_the_problem() {
 fn a_missing_file_says_so() {
     let e = Recording::read("/nonexistent/run.csv").unwrap_err();
     assert!(e.to_string().contains("cannot read /nonexistent/run.csv"));
+}
+
+#[test]
+fn a_byte_order_mark_is_accepted() {
+    let r = Recording::parse(&format!("\u{FEFF}{GOOD}")).unwrap();
+    assert_eq!((r.rows.len(), r.rows[0].line), (4, 5));
+}
+
+#[test]
+fn a_repeated_index_is_an_error_unless_the_line_is_an_exact_copy() {
+    // The copy (spaces and quotes aside) is dropped with a warning naming both lines.
+    let text = format!("{HEAD}0,1,0,4.5\n1,3,90,-9.9\n1, 3,\"90\",-9.9\n2,5,180,-4.5\n");
+    let r = Recording::parse(&text).unwrap();
+    assert_eq!(r.rows.iter().map(|r| r.index).collect::<Vec<_>>(), [0, 1, 2]);
+    assert_eq!(r.warnings.len(), 1);
+    assert_eq!(r.warnings[0].line, 6);
+    assert!(
+        r.warnings[0].to_string().contains("repeats line 5 exactly"),
+        "{:?}",
+        r.warnings
+    );
+    // The same index with other values: which is the measurement? Both lines are named.
+    let (l, msg) = error(&format!("{HEAD}0,1,0,4.5\n1,3,90,-9.9\n2,5,180,-4.5\n1,7,90,-9.8\n"));
+    assert_eq!(l, 7);
+    assert!(msg.contains("index 1 appears on lines 5 and 7"), "{msg}");
+    // The same angle at another time and index is a second visit, not a duplicate.
+    let r = Recording::parse(&format!("{HEAD}0,1,0,4.5\n1,3,90,-9.9\n2,5,90,-9.8\n3,7,0,4.4\n")).unwrap();
+    assert!(r.warnings.is_empty() && r.rows.len() == 4);
 }

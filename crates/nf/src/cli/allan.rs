@@ -1,15 +1,17 @@
 //! `nf allan`: the overlapping Allan deviation of a static log (or a recording's dwell means),
 //! its confidence intervals, and the IEEE Std 952 noise terms fitted to it.
 
-use super::{Fail, positive};
+use super::Fail;
 use crate::allan::{CI_LEVEL, Point, adev_interval};
 use crate::allan_fit::{ALPHA, AllanFit, Param, Term, fit_series};
 use crate::allan_model::{curve_taus, floor};
 use crate::allan_source::Source;
 use crate::noise_file;
 use crate::plot::{self, Panel, Series, Style};
+use crate::range::above;
 use nf_model::noise::{NoiseModel, flicker_floor_factor};
 use serde_json::{Value, json};
+use std::io::Write;
 
 #[derive(clap::Args)]
 pub struct AllanArgs {
@@ -25,7 +27,7 @@ pub struct AllanArgs {
     #[arg(long)]
     out: Option<String>,
     /// Sample rate, Hz: overrides the step of the time column.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 1e9))]
     sample_rate: Option<f64>,
 }
 
@@ -52,9 +54,6 @@ fn g(x: f64) -> String {
 }
 
 fn check(a: &AllanArgs) -> Result<(), Fail> {
-    if a.sample_rate.is_some_and(|r| !(positive(r) && r.is_finite())) {
-        return Err(Fail("--sample-rate must be a positive number of Hz".into(), 2));
-    }
     if let Some(p) = &a.plot {
         let lower = p.to_ascii_lowercase();
         if !(lower.ends_with(".svg") || lower.ends_with(".png")) {
@@ -93,10 +92,11 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
         std::fs::write(path, noise_file::write(&fit.model, &comment))
             .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
     }
+    let mut out = std::io::stdout().lock();
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&r.json()).unwrap_or_default());
+        writeln!(out, "{}", serde_json::to_string_pretty(&r.json()).unwrap_or_default())?;
     } else {
-        print!("{}", r.text());
+        write!(out, "{}", r.text())?;
     }
     Ok(())
 }

@@ -1,18 +1,19 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
-use super::Fail;
+use super::{Fail, read_recording};
 use crate::diagnose::diagnose;
 use crate::plot::{Panel, Series, Style};
-use crate::recording::Recording;
+use crate::range::above;
 use crate::{diagnose, diagnose_eval, plot};
 use serde_json::{Value, json};
+use std::io::Write;
 
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
     /// The recording (not needed with --evaluate).
     recording: Option<String>,
     /// Family-wise false-alarm rate of each selection step.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.05, value_parser = above(0.0, 0.5))]
     alpha: f64,
     #[arg(long)]
     json: bool,
@@ -23,17 +24,14 @@ pub struct DiagnoseArgs {
     #[arg(long)]
     evaluate: bool,
     /// Recordings per effect and magnitude in the suite.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     seeds: u32,
     /// Clean recordings in the suite.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 200, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     clean: u32,
 }
 
 pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
-    if !(a.alpha > 0.0 && a.alpha < 1.0) {
-        return Err(Fail("--alpha must be between 0 and 1".into(), 2));
-    }
     if a.evaluate {
         return diagnose_evaluate(&a);
     }
@@ -41,7 +39,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         .recording
         .as_deref()
         .ok_or_else(|| Fail("give a recording, or --evaluate".into(), 2))?;
-    let rec = Recording::read(path).map_err(|e| Fail(e.to_string(), 2))?;
+    let rec = read_recording(path)?;
     let d = diagnose(&rec, a.alpha).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
     if let Some(p) = &a.plot {
         let panel = |title: &str, pts: &[(f64, f64)]| Panel {
@@ -64,6 +62,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             ],
         )?;
     }
+    let mut out = std::io::stdout().lock();
     if a.json {
         let f: Vec<Value> = d
             .findings
@@ -82,43 +81,54 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             "final": {"azimuth_deg": d.final_.azimuth_deg, "rss": d.final_.rss, "sigma_arcsec": d.final_.sigma_arcsec},
             "notes": d.notes,
         });
-        println!("{}", serde_json::to_string_pretty(&j).unwrap_or_default());
+        writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
         return Ok(());
     }
     let b = d.baseline;
-    println!(
+    writeln!(
+        out,
         "baseline (Eq. 7, level ideal instrument): psi {:.5} deg +- {:.2}\", RSS {:.4e} (deg/h)^2",
         b.azimuth_deg, b.sigma_arcsec, b.rss
-    );
+    )?;
     if d.findings.is_empty() {
-        println!(
+        writeln!(
+            out,
             "no effect is significant (family-wise false-alarm rate {} per step): the recording agrees with the model",
             d.alpha
-        );
+        )?;
     }
     for (i, f) in d.findings.iter().enumerate() {
-        println!("{}. {} (p = {:.2e}), in {}", i + 1, f.effect, f.p_value, f.location);
+        writeln!(
+            out,
+            "{}. {} (p = {:.2e}), in {}",
+            i + 1,
+            f.effect,
+            f.p_value,
+            f.location
+        )?;
         for p in &f.parameters {
             match p.sigma {
-                Some(s) => println!("     {} = {:.6} +- {:.6}", p.name, p.value, s),
-                None => println!("     {} = {:.6}", p.name, p.value),
+                Some(s) => writeln!(out, "     {} = {:.6} +- {:.6}", p.name, p.value, s)?,
+                None => writeln!(out, "     {} = {:.6}", p.name, p.value)?,
             }
         }
-        println!(
+        writeln!(
+            out,
             "     with it: RSS {:.4e} (deg/h)^2, psi {:.5} deg +- {:.2}\" ({:+.2}\" from the baseline)",
             f.rss_after,
             f.azimuth_deg_after,
             f.sigma_arcsec_after,
             nf_model::angle::wrap_180(f.azimuth_deg_after - b.azimuth_deg) * 3600.0
-        );
+        )?;
     }
     let fz = d.final_;
-    println!(
+    writeln!(
+        out,
         "final: psi {:.5} deg +- {:.2}\", RSS {:.4e} (deg/h)^2",
         fz.azimuth_deg, fz.sigma_arcsec, fz.rss
-    );
+    )?;
     for n in &d.notes {
-        println!("note: {n}");
+        writeln!(out, "note: {n}")?;
     }
     Ok(())
 }
@@ -129,6 +139,7 @@ fn diagnose_evaluate(a: &DiagnoseArgs) -> Result<(), Fail> {
     let ev = diagnose_eval::evaluate(a.seeds, a.clean, &[0, 1, 2], a.alpha, || bar.inc(1));
     bar.finish_and_clear();
     let fa = ev.false_alarms as f64 / ev.clean_runs.max(1) as f64;
+    let mut out = std::io::stdout().lock();
     if a.json {
         let cells: Vec<Value> = ev
             .cells
@@ -136,38 +147,42 @@ fn diagnose_evaluate(a: &DiagnoseArgs) -> Result<(), Fail> {
             .map(|(e, l, c)| json!({"effect": e, "level": l, "runs": c.runs, "named_first_rate": c.named_first as f64 / c.runs.max(1) as f64,
                                    "named_rate": c.named as f64 / c.runs.max(1) as f64, "rms_error_before_arcsec": c.rms_before, "rms_error_after_arcsec": c.rms_after}))
             .collect();
-        println!(
+        writeln!(
+            out,
             "{}",
             serde_json::to_string_pretty(
                 &json!({"alpha": a.alpha, "cells": cells, "clean_runs": ev.clean_runs, "false_alarm_rate": fa})
             )
             .unwrap_or_default()
-        );
+        )?;
         return Ok(());
     }
-    println!(
+    writeln!(
+        out,
         "{:<20} {:<9} {:>5} {:>12} {:>8} {:>12} {:>12}",
         "effect", "level", "runs", "named first", "named", "rms err bef.", "rms err aft."
-    );
+    )?;
     for (e, l, c) in &ev.cells {
         let k = c.runs.max(1) as f64;
-        println!(
+        writeln!(
+            out,
             "{e:<20} {l:<9} {:>5} {:>11.0}% {:>7.0}% {:>11.1}\" {:>11.1}\"",
             c.runs,
             100.0 * c.named_first as f64 / k,
             100.0 * c.named as f64 / k,
             c.rms_before,
             c.rms_after
-        );
+        )?;
     }
-    println!(
+    writeln!(
+        out,
         "clean recordings: {} runs, false-alarm rate {:.1}% (alpha {} per step)",
         ev.clean_runs,
         100.0 * fa,
         a.alpha
-    );
+    )?;
     for (e, k) in ev.false_by_effect.iter().filter(|e| e.1 > 0) {
-        println!("  named on clean runs: {e} x{k}");
+        writeln!(out, "  named on clean runs: {e} x{k}")?;
     }
     Ok(())
 }

@@ -1,18 +1,19 @@
 //! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
 
-use super::Fail;
 use super::noise_args::NoiseArgs;
+use super::{Fail, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_fit::NoiseChoice;
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
-use crate::recording::Recording;
+use crate::range::real;
 use clap::ValueEnum;
 use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
 use nf_model::noise::NoiseModel;
 use nf_model::uncertainty::Budget;
 use serde_json::{Value, json};
+use std::io::Write;
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum TiltArg {
@@ -41,13 +42,13 @@ pub struct FitArgs {
     #[arg(long, value_enum, default_value = "none")]
     drift: DriftArg,
     /// Highest harmonic fitted (1 to 3).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=3))]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=3))]
     harmonics: u8,
     /// Encoder uncertainty for the budgets, deg.
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.001, value_parser = real(0.0, 10.0))]
     sigma_encoder: f64,
     /// Shaft-tilt uncertainty for the paper's budget (and the exact one when uncorrected), deg.
-    #[arg(long, default_value_t = 0.003)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.003, value_parser = real(0.0, 10.0))]
     sigma_tilt: f64,
     /// Machine-readable output.
     #[arg(long)]
@@ -109,7 +110,7 @@ fn fit_json(an: &Analysis) -> Value {
 }
 
 pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
-    let rec = Recording::read(&a.recording).map_err(|e| Fail(e.to_string(), 2))?;
+    let rec = read_recording(&a.recording)?;
     let opt = Options {
         tilt: match a.tilt {
             TiltArg::Auto => None,
@@ -136,39 +137,53 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     if let Some(p) = &a.plot {
         plot::write(p, &fit_panels(&an))?;
     }
+    let mut out = std::io::stdout().lock();
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&fit_json(&an)).unwrap_or_default());
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&fit_json(&an)).unwrap_or_default()
+        )?;
         return Ok(());
     }
     let f = &an.fit;
     let g = &an.gls;
-    println!(
+    writeln!(
+        out,
         "recording      {} ({} positions, latitude {} deg)",
         a.recording, f.n, an.latitude_deg
-    );
+    )?;
     if let Some(why) = g.unresolved(an.amplitude_predicted_dph) {
-        println!("NOT RESOLVED   the Earth rate is not resolved: {why}; no azimuth can be given");
-        println!(
+        writeln!(
+            out,
+            "NOT RESOLVED   the Earth rate is not resolved: {why}; no azimuth can be given"
+        )?;
+        writeln!(
+            out,
             "               (the fit's numbers, not an azimuth: psi {:.3} deg +- {:.3} deg)",
             g.psi_deg, g.sigma_psi_deg
-        );
+        )?;
     } else {
-        println!(
+        writeln!(
+            out,
             "azimuth psi    {:.5} deg  (Eq. 7: rate = WE cos(lat) cos(gamma + psi))",
             g.psi_deg
-        );
-        println!(
+        )?;
+        writeln!(
+            out,
             "surveying az.  {:.5} deg  (clockwise from true north, of the gamma = 0 direction)",
             surveying_azimuth_deg(g.psi_deg)
-        );
-        println!(
+        )?;
+        writeln!(
+            out,
             "sigma          {:.2} arcsec  (1 sigma, generalised least squares under the noise model)",
             g.sigma_psi_deg * 3600.0
-        );
+        )?;
     }
     let m = &g.model;
-    println!("noise model    {}", g.source.describe());
-    println!(
+    writeln!(out, "noise model    {}", g.source.describe())?;
+    writeln!(
+        out,
         "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean: {:.5} deg/h), B {:.3e} deg/h, K {:.3e} deg/h/sqrt(h); chi2 {:.1} on {} dof",
         m.arw_deg_rth,
         g.dwell_s,
@@ -177,42 +192,56 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         m.rrw_dph_rth,
         g.chi2,
         g.dof
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "white LS       psi {:.5} deg +- {:.2} arcsec (sigma from the residuals, {} dof: too small when the noise is coloured)",
         f.psi_deg,
         f.sigma_psi_deg * 3600.0,
         f.dof
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "amplitude      {:.5} +- {:.5} deg/h  (latitude predicts {:.5}: scale factor {:.5})",
         g.amplitude_dph,
         g.sigma_amplitude_dph,
         an.amplitude_predicted_dph,
         g.amplitude_dph / an.amplitude_predicted_dph
-    );
-    println!("bias (offset)  {:.5} +- {:.5} deg/h", f.offset_dph, f.sigma_offset_dph);
-    println!(
+    )?;
+    writeln!(
+        out,
+        "bias (offset)  {:.5} +- {:.5} deg/h",
+        f.offset_dph, f.sigma_offset_dph
+    )?;
+    writeln!(
+        out,
         "residuals      RSS {:.6e} (deg/h)^2, rms {:.5} deg/h",
         f.rss, an.sigma_gyro_dph
-    );
+    )?;
     match (an.method, an.shaft) {
-        (TiltMethod::Exact, Some(s)) => println!(
+        (TiltMethod::Exact, Some(s)) => writeln!(
+            out,
             "tilt           corrected with the exact model: shaft tilt {:.4} deg towards {:.1} deg (from {} X/Y readings)",
             s.tilt_deg, s.tilt_dir_deg, f.n
-        ),
-        (TiltMethod::FirstOrder, _) => println!("tilt           corrected per position from tilt_x (first order)"),
-        _ => println!("tilt           not corrected (no inclinometer columns, or --tilt none)"),
+        )?,
+        (TiltMethod::FirstOrder, _) => {
+            writeln!(out, "tilt           corrected per position from tilt_x (first order)")?
+        }
+        _ => writeln!(
+            out,
+            "tilt           not corrected (no inclinometer columns, or --tilt none)"
+        )?,
     }
     let (d1, d2) = f.drift();
     if opt.drift != Drift::None {
-        println!("drift          {d1:.3e} deg/h/s, {d2:.3e} deg/h/s^2");
+        writeln!(out, "drift          {d1:.3e} deg/h/s, {d2:.3e} deg/h/s^2")?;
     }
     for (name, b) in [("Eq. 31 (paper)", &an.budget_paper), ("exact model", &an.budget_exact)] {
-        println!(
+        writeln!(
+            out,
             "{name:<14} total {:.2}\" = gyro {:.2}\" (+) encoder {:.2}\" (+) tilt {:.2}\"",
             b.total_arcsec, b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec
-        );
+        )?;
     }
     Ok(())
 }

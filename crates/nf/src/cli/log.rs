@@ -1,8 +1,9 @@
 //! `nf log`: a firmware defmt log back into a recording.
 
-use super::{Fail, write_out};
-use crate::logparse;
+use super::{Fail, note, write_out};
+use crate::logparse::{self, Gap};
 use crate::recording::Recording;
+use std::io::Read;
 
 #[derive(clap::Args)]
 pub struct LogArgs {
@@ -11,26 +12,66 @@ pub struct LogArgs {
     /// Output file (default: standard output).
     #[arg(long, short)]
     out: Option<String>,
+    /// Write the recording even when positions are missing from the log (a lost `rec` line);
+    /// without it that is an error.
+    #[arg(long)]
+    allow_gaps: bool,
+}
+
+fn describe(g: &Gap) -> String {
+    let which = if g.first == g.last {
+        format!("index {}", g.first)
+    } else {
+        format!("indices {} to {}", g.first, g.last)
+    };
+    match g.after_line {
+        Some(a) => format!("{which} (between log lines {a} and {})", g.before_line),
+        None => format!("{which} (before log line {})", g.before_line),
+    }
 }
 
 pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
-    let text = if a.log == "-" {
-        std::io::read_to_string(std::io::stdin()).map_err(|e| Fail(format!("cannot read standard input: {e}"), 2))?
+    let mut bytes = Vec::new();
+    if a.log == "-" {
+        std::io::stdin()
+            .read_to_end(&mut bytes)
+            .map_err(|e| Fail(format!("cannot read standard input: {e}"), 2))?;
     } else {
-        std::fs::read_to_string(&a.log).map_err(|e| Fail(format!("cannot read {}: {e}", a.log), 2))?
-    };
-    let lines = logparse::extract(&text);
-    if lines.is_empty() {
+        bytes = std::fs::read(&a.log).map_err(|e| Fail(format!("cannot read {}: {e}", a.log), 2))?;
+    }
+    let log = logparse::extract(&bytes);
+    for w in &log.warnings {
+        note!("nf: warning: {}", w.at(&a.log));
+    }
+    if log.rec.is_empty() {
         return Err(Fail(
             format!("{}: no 'rec' lines: is this the firmware's defmt log?", a.log),
             1,
         ));
     }
-    let out: String = lines.iter().map(|l| format!("{l}\n")).collect();
-    // Check it as any reader would; a log cut short still gives the positions it holds.
-    let rec =
-        Recording::parse(&out).map_err(|e| Fail(format!("{} (recording extracted from the log): {e}", a.log), 1))?;
-    write_out(&a.out, &out)?;
-    eprintln!("{} positions recovered from {}", rec.rows.len(), a.log);
+    // Check it as any reader would, with the log's line numbers; a log cut short still gives
+    // the positions it holds.
+    let rec = Recording::parse(&log.on_log_lines()).map_err(|e| Fail(e.at(&a.log), 2))?;
+    for w in &rec.warnings {
+        note!("nf: warning: {}", w.at(&a.log));
+    }
+    let gaps = logparse::gaps(&rec.rows);
+    if !gaps.is_empty() {
+        let list: Vec<String> = gaps.iter().map(describe).collect();
+        let msg = format!(
+            "{}: positions missing from the log (a lost 'rec' line?): {}",
+            a.log,
+            list.join(", ")
+        );
+        if !a.allow_gaps {
+            return Err(Fail(
+                format!("{msg}; --allow-gaps writes the recording without them"),
+                2,
+            ));
+        }
+        note!("nf: warning: {msg}");
+    }
+    write_out(&a.out, &log.recording())?;
+    note!("{} positions recovered from {}", rec.rows.len(), a.log);
     Ok(())
 }

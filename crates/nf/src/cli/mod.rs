@@ -9,6 +9,7 @@ mod paper;
 mod plan;
 mod simulate;
 
+use crate::recording::Recording;
 use allan::{AllanArgs, cmd_allan};
 use clap::{Parser, Subcommand};
 use diagnose::{DiagnoseArgs, cmd_diagnose};
@@ -17,6 +18,7 @@ use log::{LogArgs, cmd_log};
 use paper::{PaperArgs, cmd_paper};
 use plan::{PlanArgs, cmd_plan};
 use simulate::{SimArgs, cmd_simulate};
+use std::io::Write;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -48,12 +50,35 @@ enum Cmd {
     Allan(AllanArgs),
 }
 
-/// A failure to report: the message and the exit code.
+/// A line on standard error. Unlike `eprintln!` it does not panic when standard error is
+/// closed: a lost message is no reason to fail.
+macro_rules! note {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($t)*);
+    }};
+}
+pub(crate) use note;
+
+/// A failure to report: the message and the exit code. Code 0 is not a failure: the reader of
+/// standard output closed it (`nf paper | head`), so the command stops and exits quietly.
 pub(crate) struct Fail(pub String, pub u8);
 
 impl From<String> for Fail {
     fn from(s: String) -> Self {
         Fail(s, 1)
+    }
+}
+
+/// Errors of writing standard output; write with `writeln!(out, ...)?` rather than `println!`,
+/// which panics on a closed pipe.
+impl From<std::io::Error> for Fail {
+    fn from(e: std::io::Error) -> Self {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            Fail(String::new(), 0)
+        } else {
+            Fail(format!("cannot write to standard output: {e}"), 1)
+        }
     }
 }
 
@@ -68,26 +93,30 @@ pub fn main() -> ExitCode {
         Cmd::Diagnose(a) => cmd_diagnose(a),
         Cmd::Allan(a) => cmd_allan(a),
     };
+    // What is still buffered meets a closed pipe here, not in the exit's silent flush.
+    let r = r.and_then(|()| Ok(std::io::stdout().flush()?));
     match r {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) | Err(Fail(_, 0)) => ExitCode::SUCCESS,
         Err(Fail(msg, code)) => {
-            eprintln!("nf: {msg}");
+            note!("nf: {msg}");
             ExitCode::from(code)
         }
     }
 }
 
-/// `x > 0`, false for NaN.
-pub(crate) fn positive(x: f64) -> bool {
-    x > 0.0
+/// Reads a recording: a bad one is an error naming the line (exit code 2); what the reader
+/// accepted with a warning goes to standard error.
+pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
+    let rec = Recording::read(path).map_err(|e| Fail(e.to_string(), 2))?;
+    for w in &rec.warnings {
+        note!("nf: warning: {}", w.at(path));
+    }
+    Ok(rec)
 }
 
 pub(crate) fn write_out(out: &Option<String>, text: &str) -> Result<(), Fail> {
     match out {
         Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 1)),
-        None => {
-            print!("{text}");
-            Ok(())
-        }
+        None => Ok(std::io::stdout().lock().write_all(text.as_bytes())?),
     }
 }

@@ -3,35 +3,44 @@
 
 use super::Fail;
 use crate::noise_file;
+use crate::range::real;
 use nf_model::noise::NoiseModel;
 
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct NoiseArgs {
     /// Angle random walk N, deg/sqrt(h).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e6))]
     pub arw: Option<f64>,
     /// Bias instability B (flicker), deg/h.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e6))]
     pub bias_instability: Option<f64>,
     /// Rate random walk K, deg/h/sqrt(h).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e6))]
     pub rrw: Option<f64>,
     /// Gauss-Markov bias: standard deviation, deg/h (with --gm-tau).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e6))]
     pub gm_sigma: Option<f64>,
     /// Gauss-Markov bias: correlation time, s.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e6))]
     pub gm_tau: Option<f64>,
     /// Output quantisation Q, arcsec.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e6))]
     pub quantization: Option<f64>,
     /// Heavy-tailed sample noise: Student-t degrees of freedom (> 2).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = student_t_dof)]
     pub student_t_dof: Option<f64>,
     /// Noise-model file (`key = value` lines, or the JSON of `nf allan --json`): the base
     /// model, which the flags above override.
     #[arg(long = "noise", value_name = "FILE")]
     pub noise_file: Option<String>,
+}
+
+/// Student-t degrees of freedom: 0 (Gaussian) or above 2, where the variance is finite.
+fn student_t_dof(s: &str) -> Result<f64, String> {
+    match real(0.0, 1e6)(s)? {
+        v if v == 0.0 || v > 2.0 => Ok(v),
+        _ => Err("must be 0 (Gaussian) or above 2 (a finite variance)".into()),
+    }
 }
 
 impl NoiseArgs {
@@ -67,6 +76,9 @@ impl NoiseArgs {
             quantization_arcsec: self.quantization.unwrap_or(base.quantization_arcsec),
             student_t_dof: self.student_t_dof.unwrap_or(base.student_t_dof),
         };
+        if self.gm_sigma.is_some_and(|s| s > 0.0) && m.gm_tau_s == 0.0 {
+            return Err(Fail("--gm-sigma needs --gm-tau, the correlation time in s".into(), 2));
+        }
         m.validate().map_err(|e| Fail(format!("noise model: {e}"), 2))?;
         Ok(m)
     }

@@ -6,6 +6,7 @@ use crate::{paper, plot};
 use nf_model::paper::{eq24_arcsec, eq30_arcsec};
 use nf_model::uncertainty::tilt_arcsec;
 use serde_json::json;
+use std::io::Write;
 
 #[derive(clap::Args)]
 pub struct PaperArgs {
@@ -70,6 +71,7 @@ pub fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
         });
         plot::write(p, &[fig6, fig7])?;
     }
+    let mut out = std::io::stdout().lock();
     if a.json {
         let j = json!({
             "eq24_arcsec": ns.iter().map(|&n| json!({"n": n, "values": sws.iter().map(|&s| json!({"sigma_w_dph": s, "arcsec": eq24_arcsec(n, s, paper::LAT)})).collect::<Vec<_>>()})).collect::<Vec<_>>(),
@@ -83,62 +85,79 @@ pub fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
             "eq31": paper::STATED_EQ31.iter().map(|&(n, s)| json!({"n": n, "stated_arcsec": s, "paper_equations_arcsec": paper::eq31_paper(n), "exact_arcsec": paper::eq31_exact(n)})).collect::<Vec<_>>(),
             "findings": findings,
         });
-        println!("{}", serde_json::to_string_pretty(&j).unwrap_or_default());
+        writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
         return Ok(());
     }
-    println!("Eq. 24 (Fig. 6): azimuth uncertainty in arcsec at latitude 43.8 deg");
-    print!("{:>10}", "sigma_w");
+    writeln!(
+        out,
+        "Eq. 24 (Fig. 6): azimuth uncertainty in arcsec at latitude 43.8 deg"
+    )?;
+    write!(out, "{:>10}", "sigma_w")?;
     for n in ns {
-        print!("{:>9}", format!("n={n}"));
+        write!(out, "{:>9}", format!("n={n}"))?;
     }
-    println!();
+    writeln!(out)?;
     for s in sws {
-        print!("{s:>10}");
+        write!(out, "{s:>10}")?;
         for n in ns {
-            print!("{:>9.2}", eq24_arcsec(n, s, paper::LAT));
+            write!(out, "{:>9.2}", eq24_arcsec(n, s, paper::LAT))?;
         }
-        println!();
+        writeln!(out)?;
     }
-    println!("\nFig. 7: shaft misalignment (arcsec), Eq. 30 as printed (sigma_eta = eta, n = 180, psi = 45) and exact");
-    println!(
+    writeln!(
+        out,
+        "\nFig. 7: shaft misalignment (arcsec), Eq. 30 as printed (sigma_eta = eta, n = 180, psi = 45) and exact"
+    )?;
+    writeln!(
+        out,
         "{:>8} {:>12} {:>12} {:>12} {:>14}",
         "eta", "eps=0.001", "eps=0.01", "eps=0.1", "exact (max)"
-    );
+    )?;
     for h in etas {
         let e: Vec<f64> = epss
             .iter()
             .map(|&e| eq30_arcsec(180, paper::LAT, 45.0, h, e, h))
             .collect();
-        println!(
+        writeln!(
+            out,
             "{h:>8} {:>12.3} {:>12.3} {:>12.3} {:>14.3}",
             e[0],
             e[1],
             e[2],
             tilt_arcsec(h, paper::LAT)
-        );
+        )?;
     }
-    println!("\nTables 1-4, ten runs each: stated against recomputed from the rows");
-    println!(
+    writeln!(
+        out,
+        "\nTables 1-4, ten runs each: stated against recomputed from the rows"
+    )?;
+    writeln!(
+        out,
         "{:>6} {:>5} {:>12} {:>12} {:>9} {:>9} {:>9} {:>9}",
         "table", "n", "mean stated", "recomputed", "sd stat.", "recomp.", "RSS<", "max"
-    );
+    )?;
     for (t, r) in &tables {
-        println!(
+        writeln!(
+            out,
             "{:>6} {:>5} {:>12.4} {:>12.5} {:>8}\" {:>8.1}\" {:>9} {:>9}",
             t.number, t.n, t.stated_mean_deg, r.mean_deg, t.stated_sd_arcsec, r.sd_arcsec, t.stated_rss_max, r.rss_max
-        );
+        )?;
     }
-    println!("\nEq. 31 (simulated uncertainty): stated, from the paper's own equations, and exact");
+    writeln!(
+        out,
+        "\nEq. 31 (simulated uncertainty): stated, from the paper's own equations, and exact"
+    )?;
     for (n, stated) in paper::STATED_EQ31 {
-        println!(
+        writeln!(
+            out,
             "  n = {n:>3}: stated {stated}\", Eq. 24+26+30 give {:.2}\", exact model {:.2}\"",
             paper::eq31_paper(n),
             paper::eq31_exact(n)
-        );
+        )?;
     }
-    println!("\nWhere the paper disagrees with its tables or the physics:");
+    writeln!(out, "\nWhere the paper disagrees with its tables or the physics:")?;
     for f in &findings {
-        println!("- {f}");
+        writeln!(out, "- {f}")?;
     }
     Ok(())
 }

@@ -1,9 +1,10 @@
 //! `nf plan`: budgets, the fastest run for a target and a Monte Carlo check.
 
+use super::Fail;
 use super::noise_args::NoiseArgs;
-use super::{Fail, positive};
 use crate::plan_noise::{self, Candidate, Space};
 use crate::plot::{Panel, Series, Style};
+use crate::range::{MAX_LATITUDE_DEG, above, real};
 use crate::schedule::{Schedule, Timing};
 use crate::twin_check::{self, RunSpec, TwinCheck};
 use crate::{plan, plot};
@@ -12,61 +13,62 @@ use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
 use nf_model::uncertainty::{Budget, allocate, tilt_arcsec};
 use serde_json::{Value, json};
+use std::io::Write;
 
 #[derive(clap::Args)]
 pub struct PlanArgs {
-    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true, value_parser = real(-MAX_LATITUDE_DEG, MAX_LATITUDE_DEG))]
     lat: f64,
     /// White gyro noise of one position's mean, deg/h, for a dwell of --ref-dwell (sets the
     /// ARW unless --arw is given).
-    #[arg(long, default_value_t = 0.005)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.005, value_parser = real(0.0, 10.0))]
     gyro_noise: f64,
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 2.0, value_parser = real(0.01, 3600.0))]
     ref_dwell: f64,
     /// Encoder uncertainty per position, deg.
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.001, value_parser = real(0.0, 10.0))]
     encoder: f64,
     /// Shaft-tilt uncertainty left after levelling, deg.
-    #[arg(long, default_value_t = 0.003)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.003, value_parser = real(0.0, 10.0))]
     tilt: f64,
     /// Positions of the planned run.
-    #[arg(long, default_value_t = 72)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 72, value_parser = clap::value_parser!(u32).range(4..=720))]
     n: u32,
     /// Dwell of the planned run, s.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 2.0, value_parser = real(0.01, 600.0))]
     dwell: f64,
     /// Visiting order of the planned run.
     #[arg(long, default_value = "sequential")]
     order: String,
     /// Settling time after each move, s.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.3, value_parser = real(0.0, 60.0))]
     settle: f64,
     /// Stepper cruise speed, steps/s.
-    #[arg(long, default_value_t = stepper::Config::default().max_sps as f64)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().max_sps as f64, value_parser = real(stepper::Config::default().start_sps as f64, 1e6))]
     max_sps: f64,
     /// Stepper acceleration, steps/s^2.
-    #[arg(long, default_value_t = stepper::Config::default().accel_sps2 as f64)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().accel_sps2 as f64, value_parser = above(0.0, 1e8))]
     accel: f64,
     /// Motor steps per shaft turn.
-    #[arg(long, default_value_t = stepper::Config::default().steps_per_rev)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().steps_per_rev, value_parser = clap::value_parser!(u32).range(2..=10_000_000))]
     steps_per_rev: u32,
     /// Coloured noise terms (bias instability, random walk, Gauss-Markov) of the gyro.
     #[command(flatten)]
     noise: NoiseArgs,
     /// Target uncertainty, arcsec.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 36_000.0))]
     target: Option<f64>,
     /// Longest run the search considers, s.
-    #[arg(long, default_value_t = Space::default().max_time_s)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = Space::default().max_time_s, value_parser = above(0.0, 1e6))]
     max_time: f64,
     /// Twin runs checking the stated sigma of the fastest run (or of the planned run without a
     /// target): the firmware's logic, this gyro and motor, fitted with this noise model.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=10_000))]
     twin_runs: u32,
     /// Monte Carlo runs checking the formula (0: none).
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 2000, value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
     mc_runs: u32,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     seed: u64,
     #[arg(long)]
     json: bool,
@@ -86,37 +88,7 @@ fn describe(c: &Candidate) -> String {
     )
 }
 
-fn check(a: &PlanArgs) -> Result<(), Fail> {
-    let finite_nonneg = |v: f64| v.is_finite() && v >= 0.0;
-    let ok = (4..=720).contains(&a.n)
-        && positive(a.dwell)
-        && a.dwell <= 600.0
-        && positive(a.ref_dwell)
-        && (-89.0..=89.0).contains(&a.lat)
-        && finite_nonneg(a.gyro_noise)
-        && finite_nonneg(a.encoder)
-        && finite_nonneg(a.tilt)
-        && finite_nonneg(a.settle)
-        && a.max_sps.is_finite()
-        && a.max_sps >= 1.0
-        && a.accel.is_finite()
-        && a.accel > 0.0
-        && a.steps_per_rev > 0
-        && positive(a.max_time)
-        && a.max_time.is_finite()
-        && a.target.is_none_or(|t| positive(t) && t.is_finite());
-    if ok {
-        Ok(())
-    } else {
-        Err(Fail(
-            "need 4 <= n <= 720, 0 < dwell <= 600 s, |lat| <= 89 deg, noise, encoder, tilt and settle finite and >= 0, a positive target, speed >= 1 step/s, acceleration > 0, a finite positive max time".into(),
-            2,
-        ))
-    }
-}
-
 pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
-    check(&a)?;
     let model = a.noise.apply(NoiseModel::white(a.gyro_noise, a.ref_dwell))?;
     let timing = Timing {
         motor: stepper::Config {
@@ -227,6 +199,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         plot::write(p, &[panel])?;
     }
     let bj = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
+    let mut out = std::io::stdout().lock();
     if a.json {
         let j = json!({
             "n": a.n, "dwell_s": a.dwell, "order": order.name(), "time_s": time_s,
@@ -246,86 +219,96 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                 "rms_error_over_sigma": k.rms_z, "mean_time_s": k.mean_time_s})),
             "monte_carlo": mc.map(|(m, f)| json!({"runs": a.mc_runs, "sd_arcsec": m, "formula_arcsec": f})),
         });
-        println!("{}", serde_json::to_string_pretty(&j).unwrap_or_default());
+        writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
         return Ok(());
     }
-    println!(
+    writeln!(
+        out,
         "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position), {:.0} s to north with levelling and moves",
         a.n,
         a.dwell,
         order.name(),
         s.gyro_dph,
         time_s
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "{:<22} {:>9} {:>9} {:>9} {:>9}",
         "budget (arcsec)", "gyro", "encoder", "tilt", "total"
-    );
+    )?;
     for (name, b) in [
         ("Eq. 31 (paper)", paper_b),
         ("exact, white noise", exact_b),
         ("exact, numerical", num_b),
     ] {
-        println!(
+        writeln!(
+            out,
             "{name:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
             b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec, b.total_arcsec
-        );
+        )?;
     }
     if let (Some(g), Some(t)) = (noise_gyro, noise_total) {
-        println!(
+        writeln!(
+            out,
             "{:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
             "noise model (GLS)", g, exact_b.encoder_arcsec, exact_b.tilt_arcsec, t
-        );
+        )?;
     }
     if let (Some(t), Some(p)) = (a.target, &search) {
         match &p.fastest {
-            Some(c) => println!("target {t}\": fastest run under the noise model: {}", describe(c)),
-            None if tilt_arcsec(a.tilt, a.lat) >= t => println!(
+            Some(c) => writeln!(out, "target {t}\": fastest run under the noise model: {}", describe(c))?,
+            None if tilt_arcsec(a.tilt, a.lat) >= t => writeln!(
+                out,
                 "target {t}\": not reachable: the levelling residue alone (tilt {} deg) gives {:.2}\"",
                 a.tilt,
                 tilt_arcsec(a.tilt, a.lat)
-            ),
+            )?,
             None => {
                 let floor = p.floor.as_ref().map_or("no run".to_string(), describe);
-                println!(
+                writeln!(
+                    out,
                     "target {t}\": not reachable with this gyro and motor in runs up to {:.0} s: the best is {floor}",
                     a.max_time
-                )
+                )?
             }
         }
         for c in &p.per_order {
-            println!("  fastest {}", describe(c));
+            writeln!(out, "  fastest {}", describe(c))?;
         }
         if let Some(s) = allowance {
-            println!(
+            writeln!(
+                out,
                 "target {t}\" at n = {}: allowances of a third of the variance each: gyro {:.5} deg/h per position, encoder {:.5} deg, levelling {:.5} deg",
                 a.n, s.gyro_dph, s.encoder_deg, s.tilt_deg
-            );
+            )?;
         }
         match paper_n {
-            Some(n) => println!(
+            Some(n) => writeln!(
+                out,
                 "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s dwell",
                 a.dwell
-            ),
-            None => println!("target {t}\": not reachable by the paper's Eq. 31"),
+            )?,
+            None => writeln!(out, "target {t}\": not reachable by the paper's Eq. 31")?,
         }
     }
     if let Some((c, stated, k)) = &twin {
-        println!(
+        writeln!(
+            out,
             "twin check, {} runs of the {}: RMS error {:.2}\" against the stated gyro term {stated:.2}\" ({:+.1}%), RMS error/sigma {:.2}",
             k.runs,
             describe(c),
             k.rms_error_arcsec,
             (k.rms_error_arcsec / stated - 1.0) * 100.0,
             k.rms_z
-        );
+        )?;
     }
     if let Some((m, f)) = mc {
-        println!(
+        writeln!(
+            out,
             "Monte Carlo (white noise), {} runs: sd {m:.2}\" against the formula {f:.2}\" ({:+.1}%)",
             a.mc_runs,
             (m / f - 1.0) * 100.0
-        );
+        )?;
     }
     Ok(())
 }

@@ -1,7 +1,8 @@
 //! `nf simulate`: a recording from the firmware logic on the digital twin.
 
 use super::noise_args::NoiseArgs;
-use super::{Fail, positive, write_out};
+use super::{Fail, note, write_out};
+use crate::range::{MAX_LATITUDE_DEG, above, real};
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
@@ -12,13 +13,13 @@ use serde_json::json;
 #[derive(clap::Args)]
 pub struct SimArgs {
     /// Latitude, deg.
-    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true, value_parser = real(-MAX_LATITUDE_DEG, MAX_LATITUDE_DEG))]
     lat: f64,
     /// Azimuth psi (Eq. 7), deg.
-    #[arg(long, default_value_t = 65.5378, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 65.5378, allow_hyphen_values = true, value_parser = real(-360.0, 360.0))]
     psi: f64,
     /// Number of positions.
-    #[arg(long, default_value_t = 72)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 72, value_parser = clap::value_parser!(u16).range(4..=720))]
     n: u16,
     /// Visiting order: sequential, forward-back, opposite-pairs, interleaved, or a
     /// comma-separated list of position numbers.
@@ -26,61 +27,61 @@ pub struct SimArgs {
     order: String,
     /// End the run when the firmware's running sigma under the gyro's noise model reaches this,
     /// arcsec.
-    #[arg(long)]
-    target_arcsec: Option<f32>,
+    #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 36_000.0))]
+    target_arcsec: Option<f64>,
     /// Stepper cruise speed, steps/s.
-    #[arg(long, default_value_t = stepper::Config::default().max_sps)]
-    max_sps: f32,
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().max_sps as f64, value_parser = real(stepper::Config::default().start_sps as f64, 1e6))]
+    max_sps: f64,
     /// Stepper acceleration, steps/s^2.
-    #[arg(long, default_value_t = stepper::Config::default().accel_sps2)]
-    accel: f32,
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().accel_sps2 as f64, value_parser = above(0.0, 1e8))]
+    accel: f64,
     /// Dwell per position, s.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 2.0, value_parser = real(0.01, 600.0))]
     dwell: f64,
     /// Settle time after each move, s.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.3, value_parser = real(0.0, 60.0))]
     settle: f64,
     /// Gyro white noise of a 2 s dwell mean, deg/h (sets the ARW unless --arw or --noise is given).
-    #[arg(long, default_value_t = 0.005)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.005, value_parser = real(0.0, 10.0))]
     gyro_noise: f64,
     /// Gyro bias, deg/h.
-    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(-50.0, 50.0))]
     bias: f64,
     /// Linear bias drift, deg/h per s.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
     drift: f64,
     /// Shaft tilt, deg.
-    #[arg(long, default_value_t = 0.002)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.002, value_parser = real(0.0, 10.0))]
     tilt: f64,
     /// Direction the platform is lowest towards, deg counter-clockwise from gamma = 0.
-    #[arg(long, default_value_t = 140.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 140.0, allow_hyphen_values = true, value_parser = real(-360.0, 360.0))]
     tilt_dir: f64,
     /// Gyro axis elevation above the platform (gyro misalignment), deg.
-    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true, value_parser = real(-10.0, 10.0))]
     misalignment: f64,
     /// Gyro scale factor.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 1.0, value_parser = real(0.1, 10.0))]
     scale: f64,
     /// Encoder error amplitude, arcsec.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0, value_parser = real(0.0, 3600.0))]
     encoder_error: f64,
     /// Harmonic of the encoder error (1: eccentricity).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, allow_hyphen_values = true)]
     encoder_harmonic: u8,
     /// Gyro temperature at the start, C.
-    #[arg(long, default_value_t = 40.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 40.0, allow_hyphen_values = true, value_parser = real(-60.0, 125.0))]
     temp: f64,
     /// Temperature ramp, C per s.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
     temp_ramp: f64,
     /// Bias temperature coefficient, deg/h per C.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-10.0, 10.0))]
     temp_coef: f64,
     /// Inclinometer noise, deg.
-    #[arg(long, default_value_t = 0.0005)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0005, value_parser = real(0.0, 1.0))]
     incl_noise: f64,
     /// Random seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     seed: u64,
     /// Further noise terms (the default gyro has white noise only).
     #[command(flatten)]
@@ -94,31 +95,12 @@ pub struct SimArgs {
 }
 
 pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
-    if !(positive(a.dwell) && a.dwell <= 600.0) || a.n < 4 || a.n > 720 || !(-89.0..=89.0).contains(&a.lat) {
-        return Err(Fail(
-            "need 4 <= n <= 720, 0 < dwell <= 600 s and |lat| <= 89 deg".into(),
-            2,
-        ));
-    }
     let order = Order::parse(&a.order)
         .and_then(|o| o.check(a.n).map(|()| o))
         .map_err(|e| Fail(format!("--order: {e}"), 2))?;
-    if a.target_arcsec.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
-        return Err(Fail("--target-arcsec must be a positive number".into(), 2));
-    }
-    let motor_ok = a.max_sps.is_finite() && a.max_sps >= stepper::Config::default().start_sps;
-    if !(motor_ok && a.accel > 0.0 && a.accel.is_finite()) {
-        return Err(Fail(
-            format!(
-                "need --max-sps >= the start speed {} steps/s and a finite --accel > 0",
-                stepper::Config::default().start_sps
-            ),
-            2,
-        ));
-    }
     let mut twin = TwinConfig::default();
-    twin.motor.max_sps = a.max_sps;
-    twin.motor.accel_sps2 = a.accel;
+    twin.motor.max_sps = a.max_sps as f32;
+    twin.motor.accel_sps2 = a.accel as f32;
     twin.instrument.latitude_deg = a.lat;
     twin.instrument.psi_deg = a.psi;
     twin.instrument.tilt_deg = a.tilt;
@@ -138,7 +120,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
         positions: a.n,
         order,
         noise: twin.noise,
-        target_arcsec: a.target_arcsec.unwrap_or(0.0),
+        target_arcsec: a.target_arcsec.unwrap_or(0.0) as f32,
         dwell_ms: (a.dwell * 1000.0).round() as u32,
         settle_ms: (a.settle * 1000.0).round() as u32,
         latitude_deg: a.lat as f32,
@@ -155,23 +137,26 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             "positions": report.positions,
             "duration_s": world.t_s(),
             "firmware_azimuth_deg": az.map(|x| x.psi_deg),
-            "firmware_sigma_arcsec": az.map(|x| x.sigma_arcsec),
+            "firmware_sigma_arcsec": az.and_then(|x| x.sigma_arcsec),
+            "firmware_sigma_undefined": az.is_some_and(|x| x.sigma_arcsec.is_none()),
             "under_noise": report.under_noise.map(|u| json!({"psi_deg": u.psi_deg, "sigma_arcsec": u.sigma_psi_deg * 3600.0, "dwells": u.dwells})),
             "target_reached": report.target_reached,
             "error": report.result.err().map(|e| format!("{e:?}")),
         });
-        eprintln!("{j}");
+        note!("{j}");
     } else if let Some(x) = az {
-        eprintln!(
-            "simulated {} dwells over {:.0} s; firmware fit: psi {:.4} deg +- {:.1}\" (truth {:.4})",
+        let sigma = x
+            .sigma_arcsec
+            .map_or("sigma undefined (0 dof)".into(), |s| format!("+- {s:.1}\""));
+        note!(
+            "simulated {} dwells over {:.0} s; firmware fit: psi {:.4} deg {sigma} (truth {:.4})",
             report.positions,
             world.t_s(),
             x.psi_deg,
-            x.sigma_arcsec,
             a.psi
         );
         if let Some(u) = report.under_noise {
-            eprintln!(
+            note!(
                 "firmware under the noise model: psi {:.4} deg +- {:.1}\"{}",
                 u.psi_deg,
                 u.sigma_psi_deg * 3600.0,
