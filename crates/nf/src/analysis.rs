@@ -3,10 +3,11 @@
 
 use crate::noise_fit::{self, NoiseChoice, NoiseFit};
 use crate::recording::Recording;
+use crate::tilt;
 use nf_model::EARTH_RATE_DPH;
 use nf_model::exact::Instrument;
 use nf_model::fit::{AzimuthFit, Drift, FitConfig, FitError, FitResult, Obs};
-use nf_model::level::{ShaftTilt, TiltReading, fit_tilt};
+use nf_model::level::ShaftTilt;
 use nf_model::uncertainty::{Budget, Sigmas, amplitude_dph};
 
 /// How the vertical Earth rate of a tilted shaft is removed.
@@ -68,6 +69,8 @@ pub struct Analysis {
     /// Per-position correction removed from the rates (deg/h).
     pub corrections: Vec<f64>,
     pub shaft: Option<ShaftTilt<f64>>,
+    /// Positions without an inclinometer reading, corrected from the tilt circle.
+    pub tilt_bridged: usize,
     /// `(gamma, t, rate, fitted, residual)` per position.
     pub points: Vec<[f64; 5]>,
     pub amplitude_predicted_dph: f64,
@@ -95,18 +98,7 @@ fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64]) -> Result<FitResult
 /// Fits a recording.
 pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
     let lat = rec.latitude_deg;
-    let method = match opt.tilt {
-        Some(m) => m,
-        None if rec.has_tilt_xy() => TiltMethod::Exact,
-        None if rec.has_tilt_x() => TiltMethod::FirstOrder,
-        None => TiltMethod::None,
-    };
-    if method == TiltMethod::FirstOrder && !rec.has_tilt_x() {
-        return Err("the first-order tilt correction needs tilt_x_deg on every position".into());
-    }
-    if method == TiltMethod::Exact && !rec.has_tilt_xy() {
-        return Err("the exact tilt correction needs tilt_x_deg and tilt_y_deg on every position".into());
-    }
+    let method = opt.tilt.unwrap_or_else(|| tilt::auto_method(rec));
     let cfg = FitConfig {
         drift: opt.drift,
         harmonics: opt.harmonics,
@@ -118,43 +110,13 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         }
         e => format!("the fit failed: {e}"),
     };
-    let first_order: Vec<f64> = rec
-        .rows
-        .iter()
-        .map(|r| {
-            r.tilt_x_deg
-                .map_or(0.0, |x| nf_model::fit::vertical_earth_rate_dph(lat, x))
-        })
-        .collect();
-    let mut shaft = None;
-    let (fit, corrections) = match method {
-        TiltMethod::None => (
-            plain(cfg, rec, &vec![0.0; rec.rows.len()]).map_err(fail)?,
-            vec![0.0; rec.rows.len()],
-        ),
-        TiltMethod::FirstOrder => (plain(cfg, rec, &first_order).map_err(fail)?, first_order),
-        TiltMethod::Exact => {
-            let readings: Vec<TiltReading<f64>> = rec
-                .rows
-                .iter()
-                .map(|r| TiltReading {
-                    gamma_deg: r.encoder_deg,
-                    x_deg: r.tilt_x_deg.unwrap_or(0.0),
-                    y_deg: r.tilt_y_deg.unwrap_or(0.0),
-                })
-                .collect();
-            let t = fit_tilt(&readings).map_err(|e| format!("the tilt circle fit failed: {e}"))?;
-            shaft = Some(t);
-            let mut fit = plain(cfg, rec, &first_order).map_err(fail)?;
-            let mut corr = first_order.clone();
-            for _ in 0..4 {
-                let gammas: Vec<f64> = rec.rows.iter().map(|r| r.encoder_deg).collect();
-                corr = exact_tilt_correction(lat, fit.psi_deg, fit.amplitude_dph, &t, &gammas);
-                fit = plain(cfg, rec, &corr).map_err(fail)?;
-            }
-            (fit, corr)
-        }
-    };
+    let tilt = tilt::correct(rec, method, |corr| {
+        plain(cfg, rec, corr)
+            .map(|f| (f.psi_deg, f.amplitude_dph))
+            .map_err(fail)
+    })?;
+    let fit = plain(cfg, rec, &tilt.corrections).map_err(fail)?;
+    let (corrections, shaft, bridged) = (tilt.corrections, tilt.shaft, tilt.bridged);
     let points = rec
         .rows
         .iter()
@@ -192,6 +154,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         method,
         corrections,
         shaft,
+        tilt_bridged: bridged,
         points,
         sigma_gyro_dph,
         gls,
@@ -203,7 +166,7 @@ fn tilt_x_scatter(rec: &Recording) -> f64 {
     let obs: Vec<Obs<f64>> = rec
         .rows
         .iter()
-        .map(|r| Obs::new(r.encoder_deg, r.tilt_x_deg.unwrap_or(0.0)))
+        .filter_map(|r| Some(Obs::new(r.encoder_deg, r.tilt_x_deg?)))
         .collect();
     match AzimuthFit::fit_all(FitConfig::default(), &obs) {
         Ok(f) if f.s2.is_finite() => f.s2.sqrt(),

@@ -10,13 +10,13 @@
 //! for nothing with probability at least `1 - alpha` (`alpha` = 0.05 by default). Effects
 //! are added one at a time, most significant first, until none is left.
 
-use crate::analysis::exact_tilt_correction;
+use crate::analysis::TiltMethod;
 use crate::linfit::{self, Ls};
 use crate::recording::Recording;
 use crate::stats::{f_sf, t_sf2};
+use crate::tilt;
 use nf_model::EARTH_RATE_DPH;
 use nf_model::angle::atan2_deg;
-use nf_model::level::{TiltReading, fit_tilt};
 
 /// Most tests in one step: drift (2 forms), thermal, encoder (3 harmonics), nonlinearity,
 /// jump, outliers, settling, scale factor, and the shaft tilt.
@@ -84,7 +84,6 @@ struct Data {
     rate: Vec<f64>,
     temp: Option<Vec<f64>>,
     quarters: Option<Vec<[f64; 4]>>,
-    tilt: Option<Vec<(f64, f64)>>,
 }
 
 /// The model as it grows: columns besides `1, cos, sin`, and the rates it fits.
@@ -199,7 +198,6 @@ pub fn diagnose(rec: &Recording, alpha: f64) -> Result<Diagnosis, String> {
         rate: rec.rows.iter().map(|r| r.rate_dph).collect(),
         temp: rec.rows.iter().map(|r| r.temp_c).collect(),
         quarters: rec.rows.iter().map(|r| r.quarters_dph).collect(),
-        tilt: rec.rows.iter().map(|r| r.tilt_x_deg.zip(r.tilt_y_deg)).collect(),
     };
     let mut model = Model {
         extra: Vec::new(),
@@ -214,17 +212,20 @@ pub fn diagnose(rec: &Recording, alpha: f64) -> Result<Diagnosis, String> {
     let mut current = base.clone();
     let residuals_before = d.gamma.iter().copied().zip(base.resid.iter().copied()).collect();
 
-    // The shaft tilt comes from the inclinometer, not the residuals: it is settled first, as
-    // one more test of the first step's family.
+    // The shaft tilt comes from the inclinometer, not the residuals, and is corrected first by
+    // `nf fit`'s own path (measured physics, applied whether or not it is significant); a tilt
+    // circle that stands out of the inclinometer's noise is reported as a finding.
     let mut tilt_tested = false;
-    if let Some(tilt) = &d.tilt
-        && let Some((c, p)) = shaft_tilt(&d, tilt, &model, &base)
-    {
+    if let Some((c, p)) = shaft_tilt(&d, rec)? {
         tilt_tested = true;
+        model = c.model.clone();
+        current = d.fit(&model, &[]).ok_or("the tilt-corrected model does not fit")?;
         if p < alpha / FIRST_STEP_TESTS as f64 {
-            model = c.model.clone();
-            current = d.fit(&model, &[]).ok_or("the tilt-corrected model does not fit")?;
             push(&mut findings, c, p, &current);
+        } else {
+            notes.push(format!(
+                "shaft tilt corrected from the inclinometer; its circle is within the readings' noise (p = {p:.3})"
+            ));
         }
     }
 
@@ -575,51 +576,95 @@ fn indistinguishable(cands: &[Candidate], d: &Data, notes: &mut Vec<String>) {
     }
 }
 
-/// The inclinometer's tilt circle and the exact correction it implies.
-fn shaft_tilt(d: &Data, tilt: &[(f64, f64)], model: &Model, base: &Ls) -> Option<(Candidate, f64)> {
-    let readings: Vec<TiltReading<f64>> = d
-        .gamma
-        .iter()
-        .zip(tilt)
-        .map(|(&g, &(x, y))| TiltReading {
-            gamma_deg: g,
-            x_deg: x,
-            y_deg: y,
-        })
-        .collect();
-    let t = fit_tilt(&readings).ok()?;
-    // F-test of the circle (2 parameters) against constant readings, X and Y together.
-    let n = readings.len();
-    let mean = |v: &dyn Fn(&TiltReading<f64>) -> f64| readings.iter().map(v).sum::<f64>() / n as f64;
-    let (mx, my) = (mean(&|r| r.x_deg), mean(&|r| r.y_deg));
-    let rss0: f64 = readings
-        .iter()
-        .map(|r| (r.x_deg - mx).powi(2) + (r.y_deg - my).powi(2))
-        .sum();
-    let dof = 2 * n - 4;
-    let rss1 = t.rms_deg.powi(2) * dof as f64;
-    let f = ((rss0 - rss1) / 2.0) / (rss1 / dof as f64).max(1e-300);
-    let p = f_sf(f, 2.0, dof as f64);
-    let amp = base.coef[1].hypot(base.coef[2]);
-    let corr = exact_tilt_correction(d.lat, summary(base).azimuth_deg, amp, &t, &d.gamma);
-    let mut m = model.clone();
-    m.y = d.rate.iter().zip(&corr).map(|(r, c)| r - c).collect();
-    let sigma_tilt = t.rms_deg * (2.0 / n as f64).sqrt();
-    Some((
+/// The tilt correction by `nf fit`'s path, and the test of the inclinometer's circle against
+/// constant readings (X and Y together with both columns, X alone otherwise).
+fn shaft_tilt(d: &Data, rec: &Recording) -> Result<Option<(Candidate, f64)>, String> {
+    let method = tilt::auto_method(rec);
+    if method == TiltMethod::None {
+        return Ok(None);
+    }
+    let t = tilt::correct(rec, method, |corr| {
+        let m = Model {
+            extra: Vec::new(),
+            y: d.rate.iter().zip(corr).map(|(r, c)| r - c).collect(),
+        };
+        let f = d
+            .fit(&m, &[])
+            .ok_or("the positions do not determine A cos + B sin + C")?;
+        Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
+    })?;
+    let axes: Vec<Vec<(f64, f64)>> = match method {
+        TiltMethod::Exact => vec![
+            rec.rows
+                .iter()
+                .filter_map(|r| Some((r.encoder_deg, r.tilt_x_deg?)))
+                .collect(),
+            rec.rows
+                .iter()
+                .filter_map(|r| Some((r.encoder_deg, r.tilt_y_deg?)))
+                .collect(),
+        ],
+        _ => vec![
+            rec.rows
+                .iter()
+                .filter_map(|r| Some((r.encoder_deg, r.tilt_x_deg?)))
+                .collect(),
+        ],
+    };
+    let p = circle_p(&axes);
+    let model = Model {
+        extra: Vec::new(),
+        y: d.rate.iter().zip(&t.corrections).map(|(r, c)| r - c).collect(),
+    };
+    let mut parameters = Vec::new();
+    if let Some(s) = t.shaft {
+        let sigma_tilt = s.rms_deg * (2.0 / (rec.rows.len() - t.bridged) as f64).sqrt();
+        parameters.extend([
+            param("tilt_deg", s.tilt_deg, Some(sigma_tilt)),
+            param("tilt_dir_deg", s.tilt_dir_deg, None),
+            param("offset_x_deg", s.offset_x_deg, None),
+            param("offset_y_deg", s.offset_y_deg, None),
+        ]);
+    }
+    Ok(Some((
         Candidate {
             effect: "shaft_tilt",
             p,
-            model: m,
-            parameters: vec![
-                param("tilt_deg", t.tilt_deg, Some(sigma_tilt)),
-                param("tilt_dir_deg", t.tilt_dir_deg, None),
-                param("offset_x_deg", t.offset_x_deg, None),
-                param("offset_y_deg", t.offset_y_deg, None),
-            ],
-            location: "the inclinometer's tilt circle; a first harmonic of the gyro, invisible in its residuals".into(),
+            model,
+            parameters,
+            location: format!(
+                "the inclinometer's tilt circle ({}; {} positions bridged); a first harmonic of the gyro, invisible in its residuals",
+                method.name(),
+                t.bridged
+            ),
         },
         p,
-    ))
+    )))
+}
+
+/// F-test of a circle `C + A cos + B sin` in every axis against constant readings.
+fn circle_p(axes: &[Vec<(f64, f64)>]) -> f64 {
+    let (mut rss0, mut rss1, mut dof) = (0.0, 0.0, 0usize);
+    for axis in axes {
+        let n = axis.len();
+        let cols = vec![
+            vec![1.0; n],
+            axis.iter().map(|(g, _)| g.to_radians().cos()).collect(),
+            axis.iter().map(|(g, _)| g.to_radians().sin()).collect(),
+        ];
+        let y: Vec<f64> = axis.iter().map(|(_, v)| *v).collect();
+        let Some(ls) = linfit::fit(&cols, &y) else { return 1.0 };
+        let mean = y.iter().sum::<f64>() / n as f64;
+        rss0 += y.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
+        rss1 += ls.rss;
+        dof += n.saturating_sub(3);
+    }
+    let q = 2.0 * axes.len() as f64;
+    if dof == 0 {
+        return 1.0;
+    }
+    let f = ((rss0 - rss1) / q) / (rss1 / dof as f64).max(1e-300);
+    f_sf(f, q, dof as f64)
 }
 
 /// Test of the first quarters against the other three: their mean offset (t test) and their

@@ -23,6 +23,7 @@ pub mod schedule;
 pub mod static_log;
 mod stats;
 pub mod textfile;
+pub mod tilt;
 pub mod twin_check;
 
 mod cli;

@@ -102,6 +102,7 @@ fn fit_json(an: &Analysis) -> Value {
         "drift_dph_per_s": d1,
         "drift_dph_per_s2": d2,
         "tilt_correction": an.method.name(),
+        "tilt_bridged_positions": an.tilt_bridged,
         "shaft_tilt_deg": an.shaft.map(|s| s.tilt_deg),
         "shaft_tilt_dir_deg": an.shaft.map(|s| s.tilt_dir_deg),
         "budget_eq31_paper": b(&an.budget_paper),
@@ -221,8 +222,10 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     match (an.method, an.shaft) {
         (TiltMethod::Exact, Some(s)) => writeln!(
             out,
-            "tilt           corrected with the exact model: shaft tilt {:.4} deg towards {:.1} deg (from {} X/Y readings)",
-            s.tilt_deg, s.tilt_dir_deg, f.n
+            "tilt           corrected with the exact model, iterated to convergence: shaft tilt {:.4} deg towards {:.1} deg (from {} X/Y readings)",
+            s.tilt_deg,
+            s.tilt_dir_deg,
+            f.n as usize - an.tilt_bridged
         )?,
         (TiltMethod::FirstOrder, _) => {
             writeln!(out, "tilt           corrected per position from tilt_x (first order)")?
@@ -231,6 +234,13 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             out,
             "tilt           not corrected (no inclinometer columns, or --tilt none)"
         )?,
+    }
+    if an.tilt_bridged > 0 {
+        writeln!(
+            out,
+            "tilt           {} positions without an inclinometer reading: corrected from the tilt circle of the others",
+            an.tilt_bridged
+        )?;
     }
     let (d1, d2) = f.drift();
     if opt.drift != Drift::None {
