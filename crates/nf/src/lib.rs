@@ -19,6 +19,7 @@ pub mod plan_noise;
 pub mod plot;
 pub mod range;
 pub mod recording;
+pub mod report;
 pub mod schedule;
 pub mod static_log;
 mod stats;

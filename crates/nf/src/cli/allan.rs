@@ -9,6 +9,7 @@ use crate::allan_source::Source;
 use crate::noise_file;
 use crate::plot::{self, Panel, Series, Style};
 use crate::range::above;
+use crate::report::Page;
 use nf_model::noise::{NoiseModel, flicker_floor_factor};
 use serde_json::{Value, json};
 use std::io::Write;
@@ -23,6 +24,9 @@ pub struct AllanArgs {
     /// Log-log chart: the curve with its intervals, the fit and each term (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
+    /// Write a self-contained HTML report: the fitted terms, the table, the Allan plot.
+    #[arg(long)]
+    report: Option<String>,
     /// Write the fitted model as a noise file (for --noise of simulate and fit).
     #[arg(long)]
     out: Option<String>,
@@ -91,6 +95,23 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
         );
         std::fs::write(path, noise_file::write(&fit.model, &comment))
             .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
+    }
+    if let Some(report) = &a.report {
+        let m = &fit.model;
+        let headline = format!(
+            "N {} deg/sqrt(h), B {} deg/h, K {} deg/h/sqrt(h)",
+            g(m.arw_deg_rth),
+            g(m.bias_instability_dph),
+            g(m.rrw_dph_rth)
+        );
+        let page = Page {
+            title: &format!("nf allan: {}", a.file),
+            headline: &headline,
+            text: &r.text(),
+            svgs: &[plot::render_svg(&[r.panel()])],
+            notes: &[],
+        };
+        page.write(report)?;
     }
     let mut out = std::io::stdout().lock();
     if a.json {

@@ -4,6 +4,7 @@ use super::{Fail, read_recording};
 use crate::diagnose::diagnose;
 use crate::plot::{Panel, Series, Style};
 use crate::range::above;
+use crate::report::Page;
 use crate::{diagnose, diagnose_eval, plot};
 use serde_json::{Value, json};
 use std::io::Write;
@@ -20,6 +21,9 @@ pub struct DiagnoseArgs {
     /// Plot the residuals before and after (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
+    /// Write a self-contained HTML report: the findings, the output, the residual plots.
+    #[arg(long)]
+    report: Option<String>,
     /// Run the suite of twin recordings with concealed effects and print the rates.
     #[arg(long)]
     evaluate: bool,
@@ -41,26 +45,24 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         .ok_or_else(|| Fail("give a recording, or --evaluate".into(), 2))?;
     let rec = read_recording(path)?;
     let d = diagnose(&rec, a.alpha).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
+    let panel = |title: &str, pts: &[(f64, f64)]| Panel {
+        title: title.into(),
+        x_label: "encoder angle gamma (deg)".into(),
+        y_label: "residual (deg/h)".into(),
+        series: vec![Series {
+            name: "residual".into(),
+            points: pts.to_vec(),
+            style: Style::Points,
+        }],
+        log_x: false,
+        log_y: false,
+    };
+    let panels = [
+        panel("residuals of Eq. 7 (before)", &d.residuals_before),
+        panel("residuals with the findings modelled (after)", &d.residuals_after),
+    ];
     if let Some(p) = &a.plot {
-        let panel = |title: &str, pts: &[(f64, f64)]| Panel {
-            title: title.into(),
-            x_label: "encoder angle gamma (deg)".into(),
-            y_label: "residual (deg/h)".into(),
-            series: vec![Series {
-                name: "residual".into(),
-                points: pts.to_vec(),
-                style: Style::Points,
-            }],
-            log_x: false,
-            log_y: false,
-        };
-        plot::write(
-            p,
-            &[
-                panel("residuals of Eq. 7 (before)", &d.residuals_before),
-                panel("residuals with the findings modelled (after)", &d.residuals_after),
-            ],
-        )?;
+        plot::write(p, &panels)?;
     }
     let mut out = std::io::stdout().lock();
     if a.json {
@@ -82,8 +84,14 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             "notes": d.notes,
         });
         writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
-        return Ok(());
+        if a.report.is_none() {
+            return Ok(());
+        }
     }
+    // The text goes to standard output, or into the report beside the JSON.
+    let json = a.json;
+    let stdout = out;
+    let mut out: Vec<u8> = Vec::new();
     let b = d.baseline;
     writeln!(
         out,
@@ -129,6 +137,31 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
     )?;
     for n in &d.notes {
         writeln!(out, "note: {n}")?;
+    }
+    if let Some(report) = &a.report {
+        let names: Vec<&str> = d.findings.iter().map(|f| f.effect).collect();
+        let headline = format!(
+            "final psi {:.5} deg +- {:.2}\"; findings: {}",
+            fz.azimuth_deg,
+            fz.sigma_arcsec,
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        );
+        let page = Page {
+            title: &format!("nf diagnose: {path}"),
+            headline: &headline,
+            text: &String::from_utf8_lossy(&out),
+            svgs: &[plot::render_svg(&panels)],
+            notes: &d.notes,
+        };
+        page.write(report)?;
+    }
+    if !json {
+        let mut stdout = stdout;
+        stdout.write_all(&out)?;
     }
     Ok(())
 }

@@ -7,6 +7,7 @@ use crate::noise_fit::NoiseChoice;
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
 use crate::range::real;
+use crate::report::Page;
 use clap::ValueEnum;
 use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
@@ -56,6 +57,9 @@ pub struct FitArgs {
     /// Plot gyro output, fitted curve and residuals (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
+    /// Write a self-contained HTML report: the azimuth, the output, the plots.
+    #[arg(long)]
+    report: Option<String>,
     /// The gyro's noise model; without one it is estimated from the recording.
     #[command(flatten)]
     noise: NoiseArgs,
@@ -138,15 +142,8 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     if let Some(p) = &a.plot {
         plot::write(p, &fit_panels(&an))?;
     }
-    let mut out = std::io::stdout().lock();
-    if a.json {
-        writeln!(
-            out,
-            "{}",
-            serde_json::to_string_pretty(&fit_json(&an)).unwrap_or_default()
-        )?;
-        return Ok(());
-    }
+    // The text goes to standard output, or into the report beside the JSON.
+    let mut out: Vec<u8> = Vec::new();
     let f = &an.fit;
     let g = &an.gls;
     writeln!(
@@ -252,6 +249,35 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             "{name:<14} total {:.2}\" = gyro {:.2}\" (+) encoder {:.2}\" (+) tilt {:.2}\"",
             b.total_arcsec, b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec
         )?;
+    }
+    if let Some(path) = &a.report {
+        let headline = match g.unresolved(an.amplitude_predicted_dph) {
+            Some(why) => format!("Earth rate not resolved: {why}"),
+            None => format!(
+                "azimuth psi {:.5} deg +- {:.2} arcsec (1 sigma, {})",
+                g.psi_deg,
+                g.sigma_psi_deg * 3600.0,
+                g.source.describe()
+            ),
+        };
+        let page = Page {
+            title: &format!("nf fit: {}", a.recording),
+            headline: &headline,
+            text: &String::from_utf8_lossy(&out),
+            svgs: &[plot::render_svg(&fit_panels(&an))],
+            notes: &[],
+        };
+        page.write(path)?;
+    }
+    let mut stdout = std::io::stdout().lock();
+    if a.json {
+        writeln!(
+            stdout,
+            "{}",
+            serde_json::to_string_pretty(&fit_json(&an)).unwrap_or_default()
+        )?;
+    } else {
+        stdout.write_all(&out)?;
     }
     Ok(())
 }
