@@ -51,7 +51,10 @@ impl Record {
         write!(w, "{},", self.index)?;
         write_fixed(w, self.t_s, 3)?;
         w.write_char(',')?;
-        write_fixed(w, self.encoder_deg, 7)?;
+        // An angle within half a digit of 360 would read 360.0000000, outside the format's
+        // 0 <= gamma < 360: it is the direction of 0.
+        let near_360 = self.encoder_deg < 360.0 && nf_model::Float::round(self.encoder_deg * 1e7) >= 3.6e9;
+        write_fixed(w, if near_360 { 0.0 } else { self.encoder_deg }, 7)?;
         w.write_char(',')?;
         write_fixed(w, self.rate_dph, 6)?;
         w.write_char(',')?;
@@ -109,6 +112,27 @@ mod tests {
         assert_eq!(f(359.99999999, 7), "360.0000000");
         assert_eq!(f(-12.5, 0), "-13");
         assert_eq!(f(f64::NAN, 3), "nan");
+    }
+
+    #[test]
+    fn an_angle_that_rounds_to_360_is_written_as_0() {
+        // A 29-bit encoder averaged to 0.05 counts below 0 gave 360.0000000, which the
+        // recording reader refuses. Found by the record_roundtrip fuzz target.
+        let mut r = Record {
+            index: 0,
+            t_s: 1.0,
+            encoder_deg: 359.99999996,
+            rate_dph: 0.0,
+            rate_sd_dph: 0.0,
+            samples: 1,
+            temp_c: 0.0,
+            tilt_x_deg: 0.0,
+            tilt_y_deg: 0.0,
+            quarters_dph: [0.0; 4],
+        };
+        assert!(r.line().starts_with("0,1.000,0.0000000,"), "{}", r.line());
+        r.encoder_deg = 359.99999994;
+        assert!(r.line().starts_with("0,1.000,359.9999999,"), "{}", r.line());
     }
 
     #[test]
