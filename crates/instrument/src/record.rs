@@ -25,13 +25,16 @@ pub struct Record {
     pub quarters_dph: [f64; 4],
 }
 
-/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite).
+/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite, or
+/// too large for the scaled integer: `|x| 10^decimals >= 2^64`).
 pub fn write_fixed<W: Write>(w: &mut W, x: f64, decimals: u32) -> fmt::Result {
-    if !x.is_finite() {
+    let scale = 10u64.pow(decimals);
+    let scaled = nf_model::Float::round(nf_model::Float::abs(x) * scale as f64);
+    // `as u64` saturates there, which would write another number.
+    if !x.is_finite() || scaled >= 18_446_744_073_709_551_616.0 {
         return w.write_str("nan");
     }
-    let scale = 10u64.pow(decimals);
-    let v = nf_model::Float::round(nf_model::Float::abs(x) * scale as f64) as u64;
+    let v = scaled as u64;
     let sign = if x < 0.0 && v != 0 { "-" } else { "" };
     if decimals == 0 {
         return write!(w, "{sign}{v}");
@@ -112,6 +115,11 @@ mod tests {
         assert_eq!(f(359.99999999, 7), "360.0000000");
         assert_eq!(f(-12.5, 0), "-13");
         assert_eq!(f(f64::NAN, 3), "nan");
+        // Past 2^64 scaled, the integer saturated: a tilt of 4.5e24 went out as
+        // 18446744073709551.615 (found by the record_roundtrip fuzz target).
+        assert_eq!(f(4.536673774803529e24, 3), "nan");
+        assert_eq!(f(-1e30, 5), "nan");
+        assert_eq!(f(1.8e16, 3), "18000000000000000.000");
     }
 
     #[test]
