@@ -43,12 +43,16 @@ fn checksum(body: &[u8]) -> u8 {
     body.iter().fold(0, |a, b| a ^ b)
 }
 
-/// Formats an answer line (what the inclinometer sends).
+/// Formats an answer line (what the inclinometer sends); empty for a reading too long for a
+/// line (magnitudes near `f32::MAX`), rather than a line cut short that could read as another.
 pub fn format_line(x_deg: f32, y_deg: f32) -> heapless::String<MAX_LINE> {
     let mut body = heapless::String::<MAX_LINE>::new();
-    let _ = write!(body, "TLT,{x_deg:+.5},{y_deg:+.5}");
     let mut line = heapless::String::new();
-    let _ = write!(line, "${}*{:02X}\r\n", body, checksum(body.as_bytes()));
+    if write!(body, "TLT,{x_deg:+.5},{y_deg:+.5}").is_err()
+        || write!(line, "${}*{:02X}\r\n", body, checksum(body.as_bytes())).is_err()
+    {
+        line.clear();
+    }
     line
 }
 
@@ -141,6 +145,11 @@ mod tests {
         assert!(l.starts_with("$TLT,+0.01234,-1.50000*"));
         let body = l.trim_end();
         assert_eq!(parse_line(body.as_bytes()), Some((0.01234, -1.5)));
+        // Too long for a line: the line was cut after "+1097727." with a checksum of what was
+        // left, and read as y = 1097727. Found by the inclinometer fuzz target.
+        assert_eq!(format_line(-2.3939604e38, 1097727.8), "");
+        let l = format_line(1e30, 0.0);
+        assert_eq!(parse_line(l.trim_end().as_bytes()), Some((1e30, 0.0)));
     }
 
     /// A UART at the end of its stream: every read gives `Ok(0)`.
