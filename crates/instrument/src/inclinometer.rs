@@ -16,7 +16,7 @@ pub const MAX_LINE: usize = 64;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum InclError {
-    /// The UART reported an error.
+    /// The UART reported an error, or the end of its stream.
     Bus,
     /// Nothing at all arrived before the timeout.
     Timeout,
@@ -43,12 +43,16 @@ fn checksum(body: &[u8]) -> u8 {
     body.iter().fold(0, |a, b| a ^ b)
 }
 
-/// Formats an answer line (what the inclinometer sends).
+/// Formats an answer line (what the inclinometer sends); empty for a reading too long for a
+/// line (magnitudes near `f32::MAX`), rather than a line cut short that could read as another.
 pub fn format_line(x_deg: f32, y_deg: f32) -> heapless::String<MAX_LINE> {
     let mut body = heapless::String::<MAX_LINE>::new();
-    let _ = write!(body, "TLT,{x_deg:+.5},{y_deg:+.5}");
     let mut line = heapless::String::new();
-    let _ = write!(line, "${}*{:02X}\r\n", body, checksum(body.as_bytes()));
+    if write!(body, "TLT,{x_deg:+.5},{y_deg:+.5}").is_err()
+        || write!(line, "${}*{:02X}\r\n", body, checksum(body.as_bytes())).is_err()
+    {
+        line.clear();
+    }
     line
 }
 
@@ -104,7 +108,12 @@ impl<U: Read + Write> Inclinometer<U> {
         loop {
             let mut buf = [0u8; 16];
             let n = self.uart.read(&mut buf).await.map_err(|_| InclError::Bus)?;
-            *got_bytes |= n > 0;
+            if n == 0 {
+                // End of file: nothing more will come, and reading again would spin without
+                // ever letting the timeout run.
+                return Err(InclError::Bus);
+            }
+            *got_bytes = true;
             for &b in &buf[..n] {
                 if b == b'$' {
                     line.clear();
@@ -140,6 +149,53 @@ mod tests {
         assert!(l.starts_with("$TLT,+0.01234,-1.50000*"));
         let body = l.trim_end();
         assert_eq!(parse_line(body.as_bytes()), Some((0.01234, -1.5)));
+        // Too long for a line: the line was cut after "+1097727." with a checksum of what was
+        // left, and read as y = 1097727. Found by the inclinometer fuzz target.
+        assert_eq!(format_line(-2.3939604e38, 1097727.8), "");
+        // A long line that fits is written whole; beyond 90 deg it is no reading.
+        let l = format_line(1e30, 0.0);
+        assert!(l.starts_with("$TLT,+1000000015047466219876688855040.00000,"), "{l}");
+        assert_eq!(parse_line(l.trim_end().as_bytes()), None);
+    }
+
+    /// A UART at the end of its stream: every read gives `Ok(0)`.
+    struct Ended;
+
+    impl embedded_io_async::ErrorType for Ended {
+        type Error = core::convert::Infallible;
+    }
+
+    impl Read for Ended {
+        async fn read(&mut self, _: &mut [u8]) -> Result<usize, Self::Error> {
+            Ok(0)
+        }
+    }
+
+    impl Write for Ended {
+        async fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
+            Ok(buf.len())
+        }
+
+        async fn flush(&mut self) -> Result<(), Self::Error> {
+            Ok(())
+        }
+    }
+
+    struct Instant;
+
+    impl Clock for Instant {
+        fn now_us(&self) -> u64 {
+            0
+        }
+        async fn delay_us(&mut self, _: u64) {}
+    }
+
+    #[test]
+    fn a_uart_at_its_end_is_a_bus_error_not_a_hang() {
+        // `Ok(0)` (end of file, which embedded-io allows) was read again for ever: the
+        // receive loop never returned to the timeout. Found by the inclinometer fuzz target.
+        let mut incl = Inclinometer::new(Ended, Config::default());
+        assert_eq!(embassy_futures::block_on(incl.read(&mut Instant)), Err(InclError::Bus));
     }
 
     #[test]

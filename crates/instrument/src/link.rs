@@ -136,9 +136,12 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
         }
         Setting::OrderMore(more) => match &mut cfg.order {
             Order::List(l) => {
+                // All or nothing: a refused line leaves the list as it was.
+                let mut longer = *l;
                 for &p in more.as_slice() {
-                    l.push(p).map_err(LinkError::Order)?;
+                    longer.push(p).map_err(LinkError::Order)?;
                 }
+                *l = longer;
             }
             _ => return Err(LinkError::NoListToExtend),
         },
@@ -312,5 +315,29 @@ mod tests {
         set(&mut cfg, "set ORDER+ 1,2,5").unwrap();
         assert_eq!(cfg.order.positions(6).collect::<std::vec::Vec<_>>(), [0, 3, 4, 1, 2, 5]);
         assert_eq!(cfg.order.check(6), Ok(()));
+    }
+
+    #[test]
+    fn a_refused_order_continuation_changes_nothing() {
+        // `SET order+` past 256 visits answered ERR but kept the entries that fitted (and the
+        // firmware stores the configuration either way). Found by the link fuzz target.
+        let mut cfg = RunConfig::DEFAULT;
+        let Ok(Command::Set(first)) = parse("SET order 0") else {
+            panic!()
+        };
+        apply(&mut cfg, first).unwrap();
+        let more = std::vec![1u16; 200]
+            .iter()
+            .map(|p| std::format!("{p}"))
+            .collect::<std::vec::Vec<_>>()
+            .join(",");
+        let Ok(Command::Set(more)) = parse(&std::format!("SET order+ {more}")) else {
+            panic!()
+        };
+        apply(&mut cfg, more).unwrap();
+        let before = cfg;
+        assert_eq!(apply(&mut cfg, more), Err(LinkError::Order(OrderError::TooLong)));
+        assert_eq!(cfg, before);
+        assert_eq!(cfg.order.visits(72), 201);
     }
 }

@@ -25,14 +25,16 @@ pub struct Record {
     pub quarters_dph: [f64; 4],
 }
 
-/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite or
-/// too large to write that way).
+/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite, or
+/// too large for the scaled integer: `|x| 10^decimals >= 2^64`).
 pub fn write_fixed<W: Write>(w: &mut W, x: f64, decimals: u32) -> fmt::Result {
     let scale = 10u64.pow(decimals);
-    if !(x.is_finite() && nf_model::Float::abs(x) * (scale as f64) < u64::MAX as f64) {
+    let scaled = nf_model::Float::round(nf_model::Float::abs(x) * scale as f64);
+    // `as u64` saturates there, which would write another number.
+    if !x.is_finite() || scaled >= 18_446_744_073_709_551_616.0 {
         return w.write_str("nan");
     }
-    let v = nf_model::Float::round(nf_model::Float::abs(x) * scale as f64) as u64;
+    let v = scaled as u64;
     let sign = if x < 0.0 && v != 0 { "-" } else { "" };
     if decimals == 0 {
         return write!(w, "{sign}{v}");
@@ -117,6 +119,11 @@ mod tests {
         assert_eq!(f(-12.5, 0), "-13");
         assert_eq!(f(f64::NAN, 3), "nan");
         assert_eq!(f(1e15, 5), "nan");
+        // Past 2^64 scaled, the integer saturated: a tilt of 4.5e24 went out as
+        // 18446744073709551.615 (found by the record_roundtrip fuzz target).
+        assert_eq!(f(4.536673774803529e24, 3), "nan");
+        assert_eq!(f(-1e30, 5), "nan");
+        assert_eq!(f(1.8e16, 3), "18000000000000000.000");
     }
 
     #[test]
@@ -140,6 +147,27 @@ mod tests {
             };
             assert!(r.line().contains(want), "{deg}: {}", r.line());
         }
+    }
+
+    #[test]
+    fn an_angle_that_rounds_to_360_is_written_as_0() {
+        // A 29-bit encoder averaged to 0.05 counts below 0 gave 360.0000000, which the
+        // recording reader refuses. Found by the record_roundtrip fuzz target.
+        let mut r = Record {
+            index: 0,
+            t_s: 1.0,
+            encoder_deg: 359.99999996,
+            rate_dph: 0.0,
+            rate_sd_dph: 0.0,
+            samples: 1,
+            temp_c: 0.0,
+            tilt_x_deg: 0.0,
+            tilt_y_deg: 0.0,
+            quarters_dph: [0.0; 4],
+        };
+        assert!(r.line().starts_with("0,1.000,0.0000000,"), "{}", r.line());
+        r.encoder_deg = 359.99999994;
+        assert!(r.line().starts_with("0,1.000,359.9999999,"), "{}", r.line());
     }
 
     #[test]

@@ -79,7 +79,13 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     let mut out = Vec::new();
     while t <= hi + step * 1e-9 {
         out.push(if t.abs() < step * 1e-9 { 0.0 } else { t });
-        t += step;
+        // Where the step is below the spacing of floats at `t` (values all equal, or a few
+        // ulps apart, at a large magnitude), adding it leaves `t` where it is.
+        let next = t + step;
+        if next <= t {
+            break;
+        }
+        t = next;
     }
     out
 }
@@ -325,6 +331,26 @@ mod tests {
         assert_eq!(ticks(0.0, 10.0), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
         let t = ticks(-0.013, 0.021);
         assert!(t.first().unwrap() >= &-0.013 && t.last().unwrap() <= &0.021 && t.len() >= 3);
+    }
+
+    #[test]
+    fn equal_values_at_any_magnitude_draw_in_finite_time() {
+        // All x equal at about 2000 or more (or a few ulps apart): the tick step fell below the
+        // spacing of floats there, `t += step` stood still and the tick list grew until the
+        // memory ran out. Found by the `plot` fuzz target.
+        for v in [2000.0f64, 2048.0, -52077.00000000004, 1e6, 1e20, -1e300] {
+            for w in [v, f64::from_bits(v.to_bits() + 1), f64::from_bits(v.to_bits() + 3)] {
+                assert!(ticks(v.min(w), v.max(w)).len() <= 12, "{v} {w}");
+                let mut p = panel();
+                p.series[0].points = vec![(v, 1.0), (w, 2.0)];
+                p.series[1].points = vec![(v, 0.5), (w, 1.5)];
+                let mut q = panel();
+                q.series[0].points = vec![(0.0, v), (1.0, w)];
+                q.series[1].points = vec![(0.5, v)];
+                assert!(render_svg(&[p.clone(), q.clone()]).ends_with("</svg>\n"));
+                assert_eq!(render_png(&[p, q])[..4], *b"\x89PNG");
+            }
+        }
     }
 
     #[test]

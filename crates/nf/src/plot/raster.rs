@@ -202,6 +202,13 @@ fn adler32(data: &[u8]) -> u32 {
     (b << 16) | a
 }
 
+/// The pixel nearest a coordinate, held to a range where the offsets added to it cannot
+/// overflow: a tick of a degenerate axis can sit at 1e19 (and NaN gives 0). All of it is
+/// outside the image, which draws nothing there.
+fn pixel(v: f64) -> i64 {
+    v.clamp(-1e9, 1e9).round() as i64
+}
+
 impl Surface for Raster {
     fn line(&mut self, a: (f64, f64), b: (f64, f64), c: Rgb) {
         let n = (b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil().max(1.0) as i64;
@@ -223,7 +230,7 @@ impl Surface for Raster {
     }
 
     fn dot(&mut self, p: (f64, f64), c: Rgb) {
-        let (x, y) = (p.0.round() as i64, p.1.round() as i64);
+        let (x, y) = (pixel(p.0), pixel(p.1));
         for dy in -2..=2i64 {
             for dx in -2..=2i64 {
                 if dx * dx + dy * dy <= 5 {
@@ -255,7 +262,7 @@ impl Surface for Raster {
             Anchor::Middle => len / 2,
             Anchor::End => len,
         };
-        let (x, y) = (x.round() as i64, y.round() as i64);
+        let (x, y) = (pixel(x), pixel(y));
         for (i, ch) in s.chars().enumerate() {
             let o = i as i64 * adv - shift;
             if vertical {
@@ -275,6 +282,22 @@ mod tests {
     fn checksums_of_known_strings() {
         assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
         assert_eq!(adler32(b"Wikipedia"), 0x11E6_0398);
+    }
+
+    #[test]
+    fn text_and_dots_far_outside_the_image_draw_nothing() {
+        // `x.round() as i64` saturates at 1e19; adding the glyph offsets then overflowed (a
+        // panic in debug builds). Found by the `plot` fuzz target.
+        let mut r = Raster::new(20, 20);
+        for v in [1e19, -1e19, f64::INFINITY, f64::NEG_INFINITY, f64::MAX] {
+            for anchor in [Anchor::Start, Anchor::Middle, Anchor::End] {
+                r.text(v, 5.0, 11.0, anchor, false, "12");
+                r.text(5.0, v, 14.0, anchor, true, "12");
+            }
+            r.dot((v, -v), [0; 3]);
+        }
+        r.text(f64::NAN, f64::NAN, 11.0, Anchor::Middle, false, "");
+        assert!(r.px.iter().all(|&p| p == [255; 3]));
     }
 
     #[test]

@@ -1,0 +1,139 @@
+//! The firmware's recording writer against the host's reader: records as the run makes them
+//! (and tilt and temperature readings of any size, since those come from devices) are written
+//! with the run's metadata and header, and read back. Every value comes back to within half a
+//! unit of its last written digit, or as missing (`nan`) when it has no fixed-point text;
+//! never as another number. No line is cut short.
+#![no_main]
+
+use arbitrary::{Result, Unstructured};
+use libfuzzer_sys::fuzz_target;
+use nf_fuzz::close;
+use nf_instrument::record::{self, HEADER, MAX_LINE, Record};
+use nf_model::dwell::Calibration;
+
+/// A count of ADC codes as a dwell's mean would be: within the 24-bit range, any fraction.
+fn counts(u: &mut Unstructured) -> Result<f64> {
+    let n: u32 = u.int_in_range(1..=4000)?;
+    let sum: i64 = u.int_in_range(-(1i64 << 23) * n as i64..=((1i64 << 23) - 1) * n as i64)?;
+    Ok(sum as f64 / n as f64)
+}
+
+/// A reading from a device: usually in range, sometimes anything an f32 holds.
+fn reading(u: &mut Unstructured, range: f32) -> Result<f32> {
+    Ok(match u.int_in_range(0..=3u8)? {
+        0 => f32::NAN,
+        1 => u.arbitrary()?,
+        _ => (u.int_in_range(-1_000_000i32..=1_000_000)? as f32 / 1e6) * range,
+    })
+}
+
+fn record(u: &mut Unstructured, index: u16) -> Result<Record> {
+    let cal = Calibration::DEFAULT;
+    // The run's angle: the commanded count plus the mean encoder error, over 2^bits a turn.
+    let bits: u32 = u.int_in_range(8..=32)?;
+    let per_turn = 1u64 << bits;
+    let target = u.int_in_range(0..=per_turn - 1)? as f64;
+    let enc_n: i64 = u.int_in_range(1..=20)?;
+    let enc_sum: i64 = u.int_in_range(-3 * enc_n..=3 * enc_n)?;
+    let angle = (target + enc_sum as f64 / enc_n as f64) * 360.0 / per_turn as f64;
+    let quarter = |u: &mut Unstructured| -> Result<f64> {
+        Ok(if u.ratio(1, 8)? {
+            f64::NAN
+        } else {
+            cal.rate_dph(counts(u)?)
+        })
+    };
+    Ok(Record {
+        index,
+        t_s: u.int_in_range(0..=u64::MAX)? as f64 * 1e-6,
+        encoder_deg: nf_model::angle::wrap_360(angle),
+        rate_dph: cal.rate_dph(counts(u)?),
+        rate_sd_dph: if u.ratio(1, 8)? {
+            f64::NAN
+        } else {
+            cal.sd_dph(u.int_in_range(0..=1u64 << 24)? as f64 / 16.0)
+        },
+        samples: u.arbitrary()?,
+        temp_c: reading(u, 150.0)?,
+        tilt_x_deg: reading(u, 10.0)?,
+        tilt_y_deg: reading(u, 10.0)?,
+        quarters_dph: [quarter(u)?, quarter(u)?, quarter(u)?, quarter(u)?],
+    })
+}
+
+/// What a value written with `decimals` digits reads back as: itself to within the last
+/// digit, or missing; `required` columns must come back.
+fn same(got: Option<f64>, want: f64, decimals: u32, what: &str, line: &str) {
+    match got {
+        Some(g) => assert!(
+            want.is_finite() && close(g, want, decimals),
+            "{what}: wrote {want:e}, read {g:e}\n{line}"
+        ),
+        None => assert!(
+            !want.is_finite() || (want.abs() * 10f64.powi(decimals as i32)).round() >= 2f64.powi(64),
+            "{what}: wrote {want:e}, read nothing\n{line}"
+        ),
+    }
+}
+
+fn run(u: &mut Unstructured) -> Result<()> {
+    let lat = u.int_in_range(-8_900_000i32..=8_900_000)? as f32 / 1e5;
+    let mut text = String::new();
+    for l in [
+        record::meta("format", "northfinder-recording/1"),
+        record::meta_fixed("latitude_deg", lat as f64, 5),
+        record::meta_fixed("dwell_s", 2.0, 3),
+        record::meta("sample_rate_hz", 1000),
+        record::meta("positions", 72),
+        record::meta("order", "sequential"),
+    ] {
+        text += &l;
+        text.push('\n');
+    }
+    text += HEADER;
+    text.push('\n');
+    let n = u.int_in_range(1..=8u16)?;
+    let mut recs = Vec::new();
+    for i in 0..n {
+        let r = record(u, i)?;
+        let line = r.line();
+        let mut full = String::new();
+        r.write(&mut full).unwrap();
+        assert_eq!(line.as_str(), full, "the line is cut at {MAX_LINE} bytes");
+        text += &line;
+        text.push('\n');
+        recs.push(r);
+    }
+    let rec = nf::recording::Recording::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    assert!(close(rec.latitude_deg, lat as f64, 5));
+    assert_eq!(rec.rows.len(), recs.len());
+    for (row, r) in rec.rows.iter().zip(&recs) {
+        let line = r.line();
+        let line = line.as_str();
+        assert_eq!(row.index, r.index as u32);
+        same(Some(row.t_s), r.t_s, 3, "t_s", line);
+        // An angle comes back as the same direction: 359.99999996 is written as 0.
+        let d = (row.encoder_deg - r.encoder_deg).rem_euclid(360.0);
+        let d = if d > 180.0 { d - 360.0 } else { d };
+        same(Some(r.encoder_deg + d), r.encoder_deg, 7, "encoder_deg", line);
+        same(Some(row.rate_dph), r.rate_dph, 6, "rate_dph", line);
+        same(row.rate_sd_dph, r.rate_sd_dph, 6, "rate_sd_dph", line);
+        assert_eq!(row.samples, Some(r.samples));
+        same(row.temp_c, r.temp_c as f64, 3, "temp_c", line);
+        same(row.tilt_x_deg, r.tilt_x_deg as f64, 5, "tilt_x_deg", line);
+        same(row.tilt_y_deg, r.tilt_y_deg as f64, 5, "tilt_y_deg", line);
+        match row.quarters_dph {
+            Some(q) => {
+                for (got, want) in q.iter().zip(r.quarters_dph) {
+                    same(Some(*got), want, 6, "quarter", line);
+                }
+            }
+            None => assert!(r.quarters_dph.iter().any(|q| q.is_nan()), "{line}"),
+        }
+    }
+    Ok(())
+}
+
+fuzz_target!(|data: &[u8]| {
+    let _ = run(&mut Unstructured::new(data));
+});

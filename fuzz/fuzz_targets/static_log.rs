@@ -1,0 +1,70 @@
+//! The static-log reader on any text: no panic; times strictly increase; the segments cover
+//! the samples in order, split exactly where a step exceeds `GAP_FACTOR` times the median
+//! step; and printing the log back in the format and reading it again gives the same log.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use nf::static_log::{GAP_FACTOR, StaticLog};
+use std::fmt::Write;
+
+fn print(log: &StaticLog) -> String {
+    let mut s = String::new();
+    for (k, v) in &log.meta {
+        let _ = writeln!(s, "# {k} = {v}");
+    }
+    s += "t_s,rate_dph\n";
+    for (t, r) in log.t_s.iter().zip(&log.rate_dph) {
+        let _ = writeln!(s, "{t},{r}");
+    }
+    s
+}
+
+fuzz_target!(|data: &[u8]| {
+    let text = nf_fuzz::text(data);
+    let Ok(log) = StaticLog::parse(&text) else {
+        return;
+    };
+    let n = log.t_s.len();
+    assert!(n >= 2 && log.rate_dph.len() == n);
+    assert!(log.t_s.windows(2).all(|w| w[0] < w[1]), "times increase");
+    assert!(log.t_s.iter().chain(&log.rate_dph).all(|x| x.is_finite()));
+    if let Some((lo, hi)) = log.temp_span_c {
+        assert!(lo <= hi && lo.is_finite() && hi.is_finite());
+    }
+    // The median step, by counting: at least half the steps are at most it, and at least
+    // half at least it.
+    let sp = &log.spacing;
+    let steps: Vec<f64> = log.t_s.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(sp.step_s > 0.0);
+    assert!(2 * steps.iter().filter(|&&s| s <= sp.step_s).count() >= steps.len());
+    assert!(2 * steps.iter().filter(|&&s| s >= sp.step_s).count() >= steps.len());
+    // Segments: contiguous, covering, split at the gaps only.
+    assert_eq!(sp.segments.first().map(|r| r.start), Some(0));
+    assert_eq!(sp.segments.last().map(|r| r.end), Some(n));
+    assert_eq!(sp.gaps.len() + 1, sp.segments.len());
+    for (w, gap) in sp.segments.windows(2).zip(&sp.gaps) {
+        let i = w[0].end;
+        assert_eq!(w[1].start, i);
+        assert!(log.t_s[i] - log.t_s[i - 1] > GAP_FACTOR * sp.step_s);
+        assert_eq!((gap.from_s, gap.to_s), (log.t_s[i - 1], log.t_s[i]));
+        assert!(gap.line > 0);
+    }
+    for seg in &sp.segments {
+        assert!(!seg.is_empty());
+        for i in seg.start + 1..seg.end {
+            assert!(log.t_s[i] - log.t_s[i - 1] <= GAP_FACTOR * sp.step_s);
+        }
+    }
+    assert_eq!(log.segments().iter().map(|s| s.len()).sum::<usize>(), n);
+    // Printed and read again.
+    let printed = print(&log);
+    let again = StaticLog::parse(&printed).unwrap_or_else(|e| panic!("{e}\n{printed}"));
+    assert_eq!(
+        (&again.t_s, &again.rate_dph, &again.meta),
+        (&log.t_s, &log.rate_dph, &log.meta)
+    );
+    assert_eq!(
+        (again.spacing.step_s, &again.spacing.segments),
+        (sp.step_s, &sp.segments)
+    );
+});
