@@ -7,7 +7,9 @@ use nf::allan_fit::{AllanFit, Term, fit_series};
 use nf::allan_model::Sampling;
 use nf::static_log::StaticLog;
 use nf_model::noise::NoiseModel;
-use std::process::Command;
+
+mod common;
+use common::{nf, tmp};
 
 fn twin_log(noise: NoiseModel, hz: f64, hours: f64, seed: u64) -> nf_twin::StaticLog {
     nf_twin::StaticLog {
@@ -124,21 +126,6 @@ fn overlapping_adev_matches_allantools() {
             p.avar.sqrt()
         );
     }
-}
-
-fn nf(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_nf")).args(args).output().unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
-}
-
-fn tmp(name: &str) -> String {
-    let d = std::env::temp_dir().join(format!("nf-allan-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name).to_string_lossy().into_owned()
 }
 
 #[test]

@@ -7,20 +7,8 @@ use nf_model::noise::NoiseModel;
 use nf_twin::{Recorder, StaticLog, TwinConfig, simulate};
 use std::process::{Command, Stdio};
 
-fn nf(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_nf")).args(args).output().unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
-}
-
-fn tmp(name: &str) -> String {
-    let d = std::env::temp_dir().join(format!("nf-bad-input-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name).to_string_lossy().into_owned()
-}
+mod common;
+use common::{nf, tmp};
 
 /// A twin recording of `n` positions written to `name`.
 fn recording(name: &str, n: &str) -> String {

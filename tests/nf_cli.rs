@@ -6,7 +6,9 @@ use nf::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::angle::wrap_180;
 use nf_twin::{Recorder, Rng, TwinConfig, simulate};
-use std::process::Command;
+
+mod common;
+use common::{nf, tmp};
 
 fn twin_recording(twin: &TwinConfig, positions: u16) -> Recording {
     let run = RunConfig {
@@ -69,21 +71,6 @@ fn fit_with_tilts_up_to_1_deg_and_inclinometer_columns() {
         },
     );
     assert!(worst_none > 10.0, "{worst_none}");
-}
-
-fn nf(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_nf")).args(args).output().unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
-}
-
-fn tmp(name: &str) -> String {
-    let d = std::env::temp_dir().join(format!("nf-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name).to_string_lossy().into_owned()
 }
 
 #[test]
