@@ -164,6 +164,7 @@ impl<SPI: SpiDevice, DRDY: Wait> Ads1256<SPI, DRDY> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::clock::Count;
     use embedded_hal_mock::eh1::digital::{Edge, Mock as Pin, State, Transaction as PinT};
     use embedded_hal_mock::eh1::spi::{Mock as Spi, Transaction as SpiT};
     use std::vec;
@@ -216,17 +217,6 @@ mod tests {
         s.done();
         p.done();
         assert_eq!(Config::default().sample_rate_hz(), Some(1000));
-    }
-
-    /// Time that only moves when waited on.
-    struct Count(u64);
-    impl Clock for Count {
-        fn now_us(&self) -> u64 {
-            self.0
-        }
-        async fn delay_us(&mut self, us: u64) {
-            self.0 += us;
-        }
     }
 
     #[test]

@@ -17,3 +17,17 @@ pub async fn with_timeout<C: Clock, T>(clock: &mut C, us: u64, fut: impl Future<
         Either::Second(()) => None,
     }
 }
+
+/// Time that moves only when waited on: the host tests' clock.
+#[cfg(test)]
+pub(crate) struct Count(pub u64);
+
+#[cfg(test)]
+impl Clock for Count {
+    fn now_us(&self) -> u64 {
+        self.0
+    }
+    async fn delay_us(&mut self, us: u64) {
+        self.0 += us;
+    }
+}

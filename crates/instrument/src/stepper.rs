@@ -113,18 +113,9 @@ impl<STEP: OutputPin, DIR: OutputPin, C: Clock> Motor for StepDir<STEP, DIR, C> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::clock::Count;
     use embedded_hal_mock::eh1::digital::{Mock, State, Transaction as T};
     use std::vec::Vec;
-
-    struct Count(u64);
-    impl Clock for Count {
-        fn now_us(&self) -> u64 {
-            self.0
-        }
-        async fn delay_us(&mut self, us: u64) {
-            self.0 += us;
-        }
-    }
 
     #[test]
     fn profile_is_symmetric_trapezoid() {
