@@ -5,19 +5,13 @@
 
 use std::process::Command;
 
-fn nf(args: &[&str]) {
-    let o = Command::new(env!("CARGO_BIN_EXE_nf")).args(args).output().unwrap();
-    assert!(
-        o.status.success(),
-        "nf {args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-}
+mod common;
+use common::{nf, tmp};
 
-fn tmp(name: &str) -> String {
-    let d = std::env::temp_dir().join(format!("nf-report-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name).to_string_lossy().into_owned()
+/// Runs `nf`, which must succeed.
+fn nf_ok(args: &[&str]) {
+    let (code, _, err) = nf(args);
+    assert_eq!(code, 0, "nf {args:?}: {err}");
 }
 
 fn chromium() -> Option<&'static str> {
@@ -59,9 +53,9 @@ fn render(browser: &str, page: &str) -> (String, String) {
 #[test]
 fn reports_are_whole_pages_that_render_and_show_the_result() {
     let run = tmp("run.csv");
-    nf(&["simulate", "--n", "24", "--dwell", "0.5", "--tilt", "0.2", "-o", &run]);
+    nf_ok(&["simulate", "--n", "24", "--dwell", "0.5", "--tilt", "0.2", "-o", &run]);
     let log = tmp("static.csv");
-    nf(&["simulate", "--n", "72", "--dwell", "0.5", "-o", &log]);
+    nf_ok(&["simulate", "--n", "72", "--dwell", "0.5", "-o", &log]);
     let cases = [
         (vec!["fit", run.as_str()], "azimuth psi"),
         (vec!["diagnose", run.as_str()], "final psi"),
@@ -78,7 +72,7 @@ fn reports_are_whole_pages_that_render_and_show_the_result() {
         let page = tmp(&format!("report{k}.html"));
         let mut args = args.clone();
         args.extend(["--report", &page]);
-        nf(&args);
+        nf_ok(&args);
         let html = std::fs::read_to_string(&page).unwrap();
         assert!(
             html.starts_with("<!DOCTYPE html>") && html.contains("<svg") && !html.contains("<script"),

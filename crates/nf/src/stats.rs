@@ -27,6 +27,19 @@ fn ln_gamma(x: f64) -> f64 {
     0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + s.ln()
 }
 
+/// One step of the modified Lentz method for a continued fraction `... a / (b + ...)`:
+/// updates `d` and `c` and returns the factor `d c` of the convergent.
+fn lentz(d: &mut f64, c: &mut f64, a: f64, b: f64) -> f64 {
+    const TINY: f64 = 1e-300;
+    let dd = b + a * *d;
+    *d = if dd.abs() < TINY { 1.0 / TINY } else { 1.0 / dd };
+    *c = b + a / *c;
+    if c.abs() < TINY {
+        *c = TINY;
+    }
+    *d * *c
+}
+
 fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
     let tiny = 1e-300;
     let (qab, qap, qam) = (a + b, a + 1.0, a - 1.0);
@@ -41,21 +54,9 @@ fn beta_cf(a: f64, b: f64, x: f64) -> f64 {
         let m = m as f64;
         let m2 = 2.0 * m;
         let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 + aa * d;
-        d = if d.abs() < tiny { 1.0 / tiny } else { 1.0 / d };
-        c = 1.0 + aa / c;
-        if c.abs() < tiny {
-            c = tiny;
-        }
-        h *= d * c;
+        h *= lentz(&mut d, &mut c, aa, 1.0);
         let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 + aa * d;
-        d = if d.abs() < tiny { 1.0 / tiny } else { 1.0 / d };
-        c = 1.0 + aa / c;
-        if c.abs() < tiny {
-            c = tiny;
-        }
-        let del = d * c;
+        let del = lentz(&mut d, &mut c, aa, 1.0);
         h *= del;
         if (del - 1.0).abs() < 1e-15 {
             break;
@@ -119,13 +120,7 @@ pub fn gamma_p(a: f64, x: f64) -> f64 {
     for i in 1..10_000 {
         let an = -(i as f64) * (i as f64 - a);
         b += 2.0;
-        d = an * d + b;
-        d = if d.abs() < tiny { 1.0 / tiny } else { 1.0 / d };
-        c = b + an / c;
-        if c.abs() < tiny {
-            c = tiny;
-        }
-        let del = d * c;
+        let del = lentz(&mut d, &mut c, an, b);
         h *= del;
         if (del - 1.0).abs() < 1e-15 {
             break;
