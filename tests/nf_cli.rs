@@ -282,8 +282,16 @@ fn diagnose_json_schema_and_bad_inputs() {
     let f = &j["findings"][0];
     assert_eq!(f["effect"], "bias_jump");
     assert!(f["parameters"]["size_dph"]["value"].is_f64());
-    assert!(f["rss_after"].as_f64().unwrap() < j["baseline"]["rss"].as_f64().unwrap());
-    assert!(f["azimuth_deg_after"].is_f64());
+    assert!(f["after"]["rss"].as_f64().unwrap() < j["baseline"]["rss"].as_f64().unwrap());
+    assert!(f["after"]["azimuth_deg"].is_f64() && f["noise"] == false);
+    assert!(j["noise_model"]["source"].as_str().unwrap().starts_with("estimated"));
+    let weights: f64 = j["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["weight"].as_f64().unwrap())
+        .sum();
+    assert!((weights - 1.0).abs() < 1e-9, "model weights sum to {weights}");
     let (code, out, _) = nf(&["diagnose", &path]);
     assert_eq!(code, 0);
     assert!(out.contains("1. bias_jump") && out.contains("final:"), "{out}");

@@ -1,7 +1,7 @@
 //! The diagnose test suite: twin recordings with each effect concealed (from barely
 //! detectable to clear) in random instruments, and clean ones for the false-alarm rate.
 
-use crate::diagnose::{EFFECTS, diagnose};
+use crate::diagnose::{Kind, Options, diagnose};
 use crate::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::angle::wrap_180;
@@ -135,15 +135,26 @@ pub fn evaluate(seeds: u32, clean: u32, levels: &[usize], alpha: f64, mut tick: 
     let mut rng = Rng::new(0xD1A6);
     let mut seed = 1000;
     let err = |rec: &Recording, psi: f64| -> Option<(Vec<&'static str>, f64, f64)> {
-        let dg = diagnose(rec, alpha).ok()?;
+        let dg = diagnose(
+            rec,
+            &Options {
+                alpha,
+                ..Options::default()
+            },
+        )
+        .ok()?;
         let e = |a: f64| wrap_180(a - psi) * 3600.0;
         Some((
-            dg.findings.iter().map(|f| f.effect).collect(),
+            dg.findings
+                .iter()
+                .filter(|f| !f.effect.is_noise())
+                .map(|f| f.effect.name())
+                .collect(),
             e(dg.baseline.azimuth_deg),
             e(dg.final_.azimuth_deg),
         ))
     };
-    for effect in EFFECTS {
+    for effect in Kind::CATALOGUE.map(Kind::name) {
         for (level, name) in LEVELS.iter().enumerate().filter(|(l, _)| levels.contains(l)) {
             let mut cell = Cell::default();
             let (mut b2, mut a2) = (0.0, 0.0);
@@ -165,7 +176,7 @@ pub fn evaluate(seeds: u32, clean: u32, levels: &[usize], alpha: f64, mut tick: 
             ev.cells.push((effect, name, cell));
         }
     }
-    let mut by: Vec<(&'static str, u32)> = EFFECTS.iter().map(|e| (*e, 0)).collect();
+    let mut by: Vec<(&'static str, u32)> = Kind::CATALOGUE.iter().map(|e| (e.name(), 0)).collect();
     for _ in 0..clean {
         seed += 1;
         let c = random_case(&mut rng, seed);

@@ -2,7 +2,7 @@
 //! incomplete beta function (Lentz's continued fraction), log-gamma by Lanczos; chi-square
 //! quantiles for confidence intervals through the regularized incomplete gamma function.
 
-fn ln_gamma(x: f64) -> f64 {
+pub fn ln_gamma(x: f64) -> f64 {
     const G: [f64; 9] = [
         0.999_999_999_999_809_9,
         676.520_368_121_885_1,
@@ -92,6 +92,11 @@ pub fn f_sf(f: f64, d1: f64, d2: f64) -> f64 {
 /// Two-sided `P(|T| > t)` for Student's t with `nu` degrees of freedom.
 pub fn t_sf2(t: f64, nu: f64) -> f64 {
     beta_inc(nu / 2.0, 0.5, nu / (nu + t * t))
+}
+
+/// Upper tail of the chi-square distribution with `k` degrees of freedom.
+pub fn chi2_sf(x: f64, k: f64) -> f64 {
+    1.0 - gamma_p(k / 2.0, x / 2.0)
 }
 
 /// Regularized lower incomplete gamma `P(a, x)`: its series below `a + 1`, else one minus the

@@ -1,6 +1,6 @@
 //! `nf diagnose` on twin recordings with concealed effects, and on clean ones.
 
-use nf::diagnose::{EFFECTS, diagnose};
+use nf::diagnose::{Diagnosis, Finding, Kind, Options, diagnose};
 use nf::diagnose_eval::evaluate;
 use nf::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
@@ -13,17 +13,24 @@ fn clear_effects_are_named_first_and_clean_recordings_stay_clean() {
     for (effect, level, cell) in &ev.cells {
         println!("{effect:<20} {level}: named first {}/{}", cell.named_first, cell.runs);
         assert_eq!(cell.runs, 4);
-        assert!(cell.named >= 3, "{effect} at {level}: named {} of 4", cell.named);
+        // Judged under the most coloured noise the recording allows, a clear effect can
+        // still go unnamed where a random walk or flicker would explain it as well.
+        assert!(cell.named >= 2, "{effect} at {level}: named {} of 4", cell.named);
         first += cell.named_first;
     }
-    assert_eq!(ev.cells.len(), EFFECTS.len());
-    assert!(first as f64 >= 0.85 * (4 * EFFECTS.len()) as f64, "named first {first}");
+    assert_eq!(ev.cells.len(), Kind::CATALOGUE.len());
+    assert!(
+        first as f64 >= 0.85 * (4 * Kind::CATALOGUE.len()) as f64,
+        "named first {first}"
+    );
     println!("false alarms {} of {}", ev.false_alarms, ev.clean_runs);
     // alpha = 0.05: more than 7 of 60 would have probability below 1.5%.
     assert!(ev.false_alarms <= 7, "{}", ev.false_alarms);
-    // Modelling the clear effects brings the azimuth back: drift, jump and encoder error bias it.
+    // Modelling the clear effects brings the azimuth back: a jump and an encoder error bias it.
+    // (A drift does not: the baseline is fitted under the recording's noise, whose random walk
+    // already takes the drift out of the first harmonic.)
     for (effect, _, cell) in &ev.cells {
-        if ["bias_drift", "bias_jump", "encoder_error"].contains(effect) {
+        if ["bias_jump", "encoder_error"].contains(effect) {
             assert!(
                 cell.rms_after < 0.5 * cell.rms_before,
                 "{effect}: {} -> {}",
@@ -51,6 +58,14 @@ fn recording_t0(twin: &TwinConfig) -> (Recording, f64) {
     (r, t0)
 }
 
+/// The first finding of the catalogue (noise terms come first in the list).
+fn first_effect(d: &Diagnosis) -> &Finding {
+    d.findings
+        .iter()
+        .find(|f| !f.effect.is_noise())
+        .expect("an effect is named")
+}
+
 fn recording(twin: &TwinConfig) -> Recording {
     recording_t0(twin).0
 }
@@ -71,15 +86,15 @@ fn a_bias_jump_is_found_with_its_time_and_size() {
     let mut twin = quiet_twin(3);
     twin.bias_jump = Some((30.0, 0.08));
     let (rec, t0) = recording_t0(&twin);
-    let d = diagnose(&rec, 0.05).unwrap();
-    let f = &d.findings[0];
-    assert_eq!(f.effect, "bias_jump");
+    let d = diagnose(&rec, &Options::default()).unwrap();
+    let f = first_effect(&d);
+    assert_eq!(f.effect, Kind::BiasJump);
     let size = f.parameters.iter().find(|p| p.name == "size_dph").unwrap();
     assert!((size.value - 0.08).abs() < 3.0 * size.sigma.unwrap(), "{size:?}");
     let time = f.parameters.iter().find(|p| p.name == "time_s").unwrap().value;
     // Positions are 1.4 s apart: the step is placed between two of them.
     assert!((time - (30.0 - t0)).abs() < 1.0, "{time} vs {}", 30.0 - t0);
-    assert!(f.rss_after < d.baseline.rss);
+    assert!(f.after.rss < d.baseline.rss);
     let err = |a: f64| nf_model::angle::wrap_180(a - twin.instrument.psi_deg).abs() * 3600.0;
     assert!(err(d.final_.azimuth_deg) < err(d.baseline.azimuth_deg));
 }
@@ -89,9 +104,9 @@ fn a_second_harmonic_encoder_error_shows_in_the_third_harmonic_and_is_removed() 
     let mut twin = quiet_twin(4);
     // 600": the third harmonic it makes is about ten times its standard error here.
     twin.encoder_error[0] = (2, 600.0, 30.0);
-    let d = diagnose(&recording(&twin), 0.05).unwrap();
-    let f = &d.findings[0];
-    assert_eq!(f.effect, "encoder_error");
+    let d = diagnose(&recording(&twin), &Options::default()).unwrap();
+    let f = first_effect(&d);
+    assert_eq!(f.effect, Kind::EncoderError);
     assert_eq!(f.parameters[0].value, 2.0);
     let amp = &f.parameters[1];
     assert!((amp.value - 600.0).abs() < 3.0 * amp.sigma.unwrap(), "{amp:?}");
@@ -107,5 +122,5 @@ fn a_second_harmonic_encoder_error_shows_in_the_third_harmonic_and_is_removed() 
 fn too_few_positions_are_refused() {
     let text = "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,0\n2,3,180,-1\n";
     let rec = Recording::parse(text).unwrap();
-    assert!(diagnose(&rec, 0.05).unwrap_err().contains("at least 8"));
+    assert!(diagnose(&rec, &Options::default()).unwrap_err().contains("at least 8"));
 }

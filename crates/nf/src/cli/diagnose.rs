@@ -1,11 +1,14 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
+use super::noise_args::NoiseArgs;
 use super::{Fail, read_recording};
-use crate::diagnose::diagnose;
+use crate::diagnose::{Diagnosis, Options, Point, Summary, diagnose};
+use crate::noise_fit::NoiseChoice;
 use crate::plot::{Panel, Series, Style};
 use crate::range::above;
 use crate::report::Page;
-use crate::{diagnose, diagnose_eval, plot};
+use crate::{diagnose_eval, plot};
+use nf_model::noise::NoiseModel;
 use serde_json::{Value, json};
 use std::io::Write;
 
@@ -33,6 +36,9 @@ pub struct DiagnoseArgs {
     /// Clean recordings in the suite.
     #[arg(long, allow_hyphen_values = true, default_value_t = 200, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     clean: u32,
+    /// The gyro's noise model; without one it is estimated from the recording.
+    #[command(flatten)]
+    noise: NoiseArgs,
 }
 
 pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
@@ -44,61 +50,157 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         .as_deref()
         .ok_or_else(|| Fail("give a recording, or --evaluate".into(), 2))?;
     let rec = read_recording(path)?;
-    let d = diagnose(&rec, a.alpha).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
-    let panel = |title: &str, pts: &[(f64, f64)]| Panel {
-        title: title.into(),
-        x_label: "encoder angle gamma (deg)".into(),
-        y_label: "residual (deg/h)".into(),
-        series: vec![Series {
-            name: "residual".into(),
-            points: pts.to_vec(),
-            style: Style::Points,
-        }],
-        log_x: false,
-        log_y: false,
+    let opt = Options {
+        alpha: a.alpha,
+        noise: if a.noise.any() {
+            NoiseChoice::Given(a.noise.apply(NoiseModel::WHITE_NONE)?, a.noise.describe())
+        } else {
+            NoiseChoice::Estimate
+        },
     };
-    let panels = [
-        panel("residuals of Eq. 7 (before)", &d.residuals_before),
-        panel("residuals with the findings modelled (after)", &d.residuals_after),
-    ];
+    let d = diagnose(&rec, &opt).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
+    let panels = diagnose_panels(&d);
     if let Some(p) = &a.plot {
         plot::write(p, &panels)?;
     }
     let mut out = std::io::stdout().lock();
     if a.json {
-        let f: Vec<Value> = d
-            .findings
-            .iter()
-            .map(|f| {
-                let params: serde_json::Map<String, Value> =
-                    f.parameters.iter().map(|p| (p.name.clone(), json!({"value": p.value, "sigma": p.sigma}))).collect();
-                json!({"effect": f.effect, "parameters": params, "p_value": f.p_value, "where": f.location,
-                       "rss_after": f.rss_after, "azimuth_deg_after": f.azimuth_deg_after, "sigma_arcsec_after": f.sigma_arcsec_after})
-            })
-            .collect();
-        let j = json!({
-            "alpha": d.alpha,
-            "baseline": {"azimuth_deg": d.baseline.azimuth_deg, "rss": d.baseline.rss, "sigma_arcsec": d.baseline.sigma_arcsec},
-            "findings": f,
-            "final": {"azimuth_deg": d.final_.azimuth_deg, "rss": d.final_.rss, "sigma_arcsec": d.final_.sigma_arcsec},
-            "notes": d.notes,
-        });
-        writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&diagnosis_json(&d)).unwrap_or_default()
+        )?;
         if a.report.is_none() {
             return Ok(());
         }
     }
     // The text goes to standard output, or into the report beside the JSON.
-    let json = a.json;
-    let stdout = out;
-    let mut out: Vec<u8> = Vec::new();
+    let mut text: Vec<u8> = Vec::new();
+    write_text(&mut text, &d)?;
+    if let Some(report) = &a.report {
+        let names: Vec<&str> = d.findings.iter().map(|f| f.effect.name()).collect();
+        let headline = format!(
+            "final psi {:.5} deg +- {:.2}\"; findings: {}",
+            d.final_.azimuth_deg,
+            d.final_.sigma_arcsec,
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        );
+        let page = Page {
+            title: &format!("nf diagnose: {path}"),
+            headline: &headline,
+            text: &String::from_utf8_lossy(&text),
+            svgs: &[plot::render_svg(&panels)],
+            notes: &d.notes,
+        };
+        page.write(report)?;
+    }
+    if !a.json {
+        out.write_all(&text)?;
+    }
+    Ok(())
+}
+
+/// Residuals before and after, against the angle and against time, with the fitted effects.
+fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
+    let pick = |x: fn(&Point) -> f64, y: fn(&Point) -> f64| -> Vec<(f64, f64)> {
+        let mut v: Vec<(f64, f64)> = d.points.iter().map(|p| (x(p), y(p))).collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v
+    };
+    let panel = |title: &str, x_label: &str, x: fn(&Point) -> f64| Panel {
+        title: title.into(),
+        x_label: x_label.into(),
+        y_label: "residual (deg/h)".into(),
+        series: vec![
+            Series {
+                name: "before: Eq. 7".into(),
+                points: pick(x, |p| p.before),
+                style: Style::Points,
+            },
+            Series {
+                name: "after: with the findings".into(),
+                points: pick(x, |p| p.after),
+                style: Style::Points,
+            },
+            Series {
+                name: "the findings as fitted".into(),
+                points: pick(x, |p| p.fitted),
+                style: Style::Line,
+            },
+        ],
+        log_x: false,
+        log_y: false,
+    };
+    vec![
+        panel(
+            "residuals against the encoder angle",
+            "encoder angle gamma (deg)",
+            |p| p.gamma_deg,
+        ),
+        panel("residuals against time", "time (s)", |p| p.t_s),
+    ]
+}
+
+fn summary_json(s: &Summary) -> Value {
+    json!({"azimuth_deg": s.azimuth_deg, "rss": s.rss, "sigma_arcsec": s.sigma_arcsec})
+}
+
+fn diagnosis_json(d: &Diagnosis) -> Value {
+    let f: Vec<Value> = d
+        .findings
+        .iter()
+        .map(|f| {
+            let params: serde_json::Map<String, Value> = f
+                .parameters
+                .iter()
+                .map(|p| (p.name.clone(), json!({"value": p.value, "sigma": p.sigma})))
+                .collect();
+            let after = (!f.effect.is_noise()).then(|| summary_json(&f.after));
+            json!({"effect": f.effect.name(), "noise": f.effect.is_noise(), "parameters": params, "p_value": f.p_value,
+                   "where": f.location, "after": after})
+        })
+        .collect();
+    let m = &d.noise_model;
+    json!({
+        "alpha": d.alpha,
+        "noise_model": {"arw_deg_rth": m.arw_deg_rth, "bias_instability_dph": m.bias_instability_dph,
+                        "rrw_dph_rth": m.rrw_dph_rth, "source": d.noise_source,
+                        "cautious": {"bias_instability_dph": d.cautious_model.bias_instability_dph, "rrw_dph_rth": d.cautious_model.rrw_dph_rth}},
+        "baseline": summary_json(&d.baseline),
+        "findings": f,
+        "selected": summary_json(&d.selected),
+        "final": summary_json(&d.final_),
+        "models": d.models.iter().map(|w| json!({"model": w.label, "weight": w.weight,
+            "azimuth_deg": w.summary.azimuth_deg, "sigma_arcsec": w.summary.sigma_arcsec})).collect::<Vec<_>>(),
+        "notes": d.notes,
+    })
+}
+
+fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     let b = d.baseline;
+    writeln!(out, "noise model: {}", d.noise_source)?;
+    let m = &d.noise_model;
     writeln!(
         out,
-        "baseline (Eq. 7, level ideal instrument): psi {:.5} deg +- {:.2}\", RSS {:.4e} (deg/h)^2",
-        b.azimuth_deg, b.sigma_arcsec, b.rss
+        "     N {:.3e} deg/rt(h), B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
+        m.arw_deg_rth, m.bias_instability_dph, m.rrw_dph_rth
     )?;
-    if d.findings.is_empty() {
+    let c = &d.cautious_model;
+    writeln!(
+        out,
+        "     drift, jump and amplitude judged under the most coloured plausible model: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
+        c.bias_instability_dph, c.rrw_dph_rth
+    )?;
+    writeln!(
+        out,
+        "baseline (Eq. 7, level ideal instrument): psi {:.5} deg +- {:.2}\"",
+        b.azimuth_deg, b.sigma_arcsec
+    )?;
+    if d.findings.iter().all(|f| f.effect.is_noise()) {
         writeln!(
             out,
             "no effect is significant (family-wise false-alarm rate {} per step): the recording agrees with the model",
@@ -110,7 +212,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             out,
             "{}. {} (p = {:.2e}), in {}",
             i + 1,
-            f.effect,
+            f.effect.name(),
             f.p_value,
             f.location
         )?;
@@ -120,54 +222,36 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
                 None => writeln!(out, "     {} = {:.6}", p.name, p.value)?,
             }
         }
-        writeln!(
-            out,
-            "     with it: RSS {:.4e} (deg/h)^2, psi {:.5} deg +- {:.2}\" ({:+.2}\" from the baseline)",
-            f.rss_after,
-            f.azimuth_deg_after,
-            f.sigma_arcsec_after,
-            nf_model::angle::wrap_180(f.azimuth_deg_after - b.azimuth_deg) * 3600.0
-        )?;
+        if !f.effect.is_noise() {
+            writeln!(
+                out,
+                "     with it: psi {:.5} deg +- {:.2}\" ({:+.2}\" from the baseline)",
+                f.after.azimuth_deg,
+                f.after.sigma_arcsec,
+                nf_model::angle::wrap_180(f.after.azimuth_deg - b.azimuth_deg) * 3600.0
+            )?;
+        }
     }
-    let fz = d.final_;
+    let (s, fz) = (d.selected, d.final_);
     writeln!(
         out,
-        "final: psi {:.5} deg +- {:.2}\", RSS {:.4e} (deg/h)^2",
-        fz.azimuth_deg, fz.sigma_arcsec, fz.rss
+        "selected model: psi {:.5} deg +- {:.2}\"",
+        s.azimuth_deg, s.sigma_arcsec
+    )?;
+    writeln!(
+        out,
+        "final: psi {:.5} deg +- {:.2}\" (the models met, averaged by their weights)",
+        fz.azimuth_deg, fz.sigma_arcsec
     )?;
     for n in &d.notes {
         writeln!(out, "note: {n}")?;
-    }
-    if let Some(report) = &a.report {
-        let names: Vec<&str> = d.findings.iter().map(|f| f.effect).collect();
-        let headline = format!(
-            "final psi {:.5} deg +- {:.2}\"; findings: {}",
-            fz.azimuth_deg,
-            fz.sigma_arcsec,
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            }
-        );
-        let page = Page {
-            title: &format!("nf diagnose: {path}"),
-            headline: &headline,
-            text: &String::from_utf8_lossy(&out),
-            svgs: &[plot::render_svg(&panels)],
-            notes: &d.notes,
-        };
-        page.write(report)?;
-    }
-    if !json {
-        let mut stdout = stdout;
-        stdout.write_all(&out)?;
     }
     Ok(())
 }
 
 fn diagnose_evaluate(a: &DiagnoseArgs) -> Result<(), Fail> {
-    let total = (a.seeds as u64) * (diagnose::EFFECTS.len() * diagnose_eval::LEVELS.len()) as u64 + a.clean as u64;
+    let total = (a.seeds as u64) * (crate::diagnose::Kind::CATALOGUE.len() * diagnose_eval::LEVELS.len()) as u64
+        + a.clean as u64;
     let bar = indicatif::ProgressBar::new(total);
     let ev = diagnose_eval::evaluate(a.seeds, a.clean, &[0, 1, 2], a.alpha, || bar.inc(1));
     bar.finish_and_clear();

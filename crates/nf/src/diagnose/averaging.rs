@@ -1,0 +1,60 @@
+//! Model uncertainty: the final azimuth averages the models the selection met, weighted by
+//! their Bayesian information criterion on the whitened data, and its variance adds the spread
+//! between them to their own. A weak finding then moves the azimuth only as far as its
+//! evidence goes, and two models that explain the data equally share the result.
+
+use super::model::{Model, Summary, summary};
+use nf_model::angle::{wrap_180, wrap_360};
+
+/// A model the selection met: the chain of named effects, or an alternative to a step.
+pub struct Variant {
+    pub label: String,
+    pub model: Model,
+    /// Parameters a scan chose, counted by the criterion beside the columns.
+    pub scanned: usize,
+}
+
+#[derive(Debug, Clone)]
+pub struct Weighted {
+    pub label: String,
+    pub weight: f64,
+    pub summary: Summary,
+}
+
+/// The averaged summary (RSS of the heaviest model) and each model's weight.
+pub fn average(variants: &[Variant]) -> Option<(Summary, Vec<Weighted>)> {
+    let fits: Vec<(f64, Summary, &str)> = variants
+        .iter()
+        .filter_map(|v| {
+            let ls = v.model.fit()?;
+            let n = ls.resid.len() as f64;
+            let k = (v.model.cols.len() + v.scanned) as f64;
+            let bic = n * (ls.rss / n).ln() + k * n.ln();
+            Some((bic, summary(&ls), v.label.as_str()))
+        })
+        .collect();
+    let low = fits.iter().map(|f| f.0).fold(f64::MAX, f64::min);
+    let total: f64 = fits.iter().map(|f| (-(f.0 - low) / 2.0).exp()).sum();
+    let out: Vec<Weighted> = fits
+        .iter()
+        .map(|(bic, s, label)| Weighted {
+            label: label.to_string(),
+            weight: (-(bic - low) / 2.0).exp() / total,
+            summary: *s,
+        })
+        .collect();
+    let top = out.iter().max_by(|a, b| a.weight.total_cmp(&b.weight))?;
+    let psi0 = top.summary.azimuth_deg;
+    let shift = |w: &Weighted| wrap_180(w.summary.azimuth_deg - psi0);
+    let mean: f64 = out.iter().map(|w| w.weight * shift(w)).sum();
+    let var: f64 = out
+        .iter()
+        .map(|w| w.weight * ((w.summary.sigma_arcsec / 3600.0).powi(2) + (shift(w) - mean).powi(2)))
+        .sum();
+    let s = Summary {
+        azimuth_deg: wrap_360(psi0 + mean),
+        rss: top.summary.rss,
+        sigma_arcsec: var.sqrt() * 3600.0,
+    };
+    Some((s, out))
+}

@@ -1,0 +1,129 @@
+//! The trait every effect implements, and what a test proposes.
+
+use super::data::Data;
+use super::kind::Kind;
+use super::model::{Model, Summary};
+use super::whiten::Whitener;
+use crate::linfit::Ls;
+use crate::stats::f_sf;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Param {
+    pub name: String,
+    pub value: f64,
+    /// Standard error, where the fit gives one.
+    pub sigma: Option<f64>,
+}
+
+pub fn param(name: &str, value: f64, sigma: Option<f64>) -> Param {
+    Param {
+        name: name.into(),
+        value,
+        sigma,
+    }
+}
+
+/// How a named effect changes the model.
+#[derive(Clone)]
+pub enum Change {
+    /// Columns added to the linear model.
+    Columns(Vec<Vec<f64>>),
+    /// The rates replaced (the dwell means without their settling quarter).
+    Response(Vec<f64>),
+    /// Nothing to fit: the effect is already corrected, or changes no residual.
+    Nothing,
+}
+
+/// One effect's test against the current model.
+#[derive(Clone)]
+pub struct Proposal {
+    pub kind: Kind,
+    /// p-value, already corrected for any scan inside the test.
+    pub p: f64,
+    pub change: Change,
+    pub parameters: Vec<Param>,
+    pub location: String,
+    /// Parameters chosen by a scan (a change time, a position): counted by the information
+    /// criterion of the model averaging.
+    pub scanned: usize,
+}
+
+/// A fit of the model on columns whitened by one noise model.
+pub struct Frame<'a> {
+    pub whitener: &'a Whitener,
+    pub model: Model,
+    pub fit: Ls,
+}
+
+impl Frame<'_> {
+    /// The F test (a GLS likelihood-ratio test on whitened columns) of the model with `cols`
+    /// added. `params` reads the effect's parameters from the bigger fit, given the index of
+    /// its first new coefficient.
+    pub fn nested(
+        &self,
+        kind: Kind,
+        cols: Vec<Vec<f64>>,
+        params: impl Fn(&Ls, usize) -> Vec<Param>,
+        location: String,
+    ) -> Option<Proposal> {
+        let white: Vec<Vec<f64>> = cols.iter().map(|c| self.whitener.apply(c)).collect();
+        let big = self.model.fit_plus(&white)?;
+        Some(Proposal {
+            kind,
+            p: nested_p(&self.fit, &big, cols.len()),
+            parameters: params(&big, self.model.cols.len()),
+            change: Change::Columns(cols),
+            location,
+            scanned: 0,
+        })
+    }
+}
+
+/// What a test sees: the recording, the model so far fitted under the noise model (`main`)
+/// and under the most coloured noise model the recording allows (`cautious`). Tests of a
+/// column (temperature, encoder harmonics) are judged under the cautious model: over one
+/// run a drift, a random walk and flicker look alike, and in a sequential run the low
+/// harmonics of the angle are the slow wander of time. Drift and jump are judged under the
+/// random walk a drift would leave (`drift`): a random walk wanders at every scale, a drift
+/// does not. The amplitude and the 2 psi harmonic of a nonlinearity are judged under the main
+/// model: the cautious one leaves them no power (a scale factor is named only when nothing
+/// else is left). Local tests (outliers,
+/// settling) use the main model.
+pub struct State<'a> {
+    pub data: &'a Data,
+    pub main: &'a Frame<'a>,
+    pub cautious: &'a Frame<'a>,
+    /// As `cautious`, its noise estimated with a drift in the design: for drift and jump.
+    pub drift: &'a Frame<'a>,
+    pub summary: Summary,
+    pub named: &'a [Kind],
+    /// Degrees of freedom of the Student-t the whitened noise follows; infinite if Gaussian.
+    pub tail_dof: f64,
+}
+
+impl State<'_> {
+    pub fn amplitude(&self) -> f64 {
+        self.main.fit.coef[1].hypot(self.main.fit.coef[2])
+    }
+
+    pub fn is_named(&self, k: Kind) -> bool {
+        self.named.contains(&k)
+    }
+}
+
+/// F test of `big` (with `q` more columns) against `small`.
+pub fn nested_p(small: &Ls, big: &Ls, q: usize) -> f64 {
+    if big.dof == 0 || small.rss <= big.rss {
+        return 1.0;
+    }
+    let f = ((small.rss - big.rss) / q as f64) / big.s2();
+    f_sf(f, q as f64, big.dof as f64)
+}
+
+/// An effect of the catalogue: its signature in the data and its test.
+pub trait Effect {
+    fn kind(&self) -> Kind;
+    /// The tests of the effect's forms against the current model; empty where it does not
+    /// apply (already named, a column the recording lacks, too few positions).
+    fn test(&self, s: &State) -> Vec<Proposal>;
+}

@@ -1,0 +1,200 @@
+//! `nf diagnose`: where a recording departs from the model the simulation used (Eq. 7 on a
+//! level, ideal instrument), which physical effect was left out, its fitted parameters, and
+//! the fit and azimuth once it is modelled.
+//!
+//! The recording's own noise is estimated first (`noise`) and every test is made on columns
+//! whitened by it, so the false-alarm rate holds on coloured noise; heavy tails are measured
+//! (`tails`) and the outlier test judged under them. Each effect of the catalogue is one type
+//! implementing [`Effect`], in a file of its own. The selection (`select`) names effects one
+//! at a time; the result averages the models it met (`averaging`); what remains is tested for
+//! structure no effect explains (`unexplained`).
+
+mod averaging;
+mod data;
+mod drift;
+mod effect;
+mod encoder;
+mod jump;
+mod kind;
+mod model;
+mod noise;
+mod nonlinearity;
+mod notes;
+mod outliers;
+mod scale;
+mod select;
+mod settling;
+mod shaft_tilt;
+mod tails;
+mod thermal;
+mod unexplained;
+mod whiten;
+
+pub use averaging::Weighted;
+pub use effect::{Effect, Param};
+pub use kind::Kind;
+pub use model::Summary;
+pub use select::Finding;
+
+use crate::noise_fit::NoiseChoice;
+use crate::recording::Recording;
+use data::Data;
+use model::{Model, summary};
+use nf_model::noise::NoiseModel;
+use select::Selector;
+use shaft_tilt::ShaftTilt;
+use whiten::Whitener;
+
+/// The share of the false-alarm rate spent on `unexplained`; the catalogue has the rest, so
+/// that a recording of the model is named for anything with probability at most `alpha`.
+const UNEXPLAINED_SHARE: f64 = 0.2;
+
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Family-wise false-alarm rate of each selection step.
+    pub alpha: f64,
+    pub noise: NoiseChoice,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            alpha: 0.05,
+            noise: NoiseChoice::Estimate,
+        }
+    }
+}
+
+/// One position, in time order, for the plots.
+#[derive(Debug, Clone, Copy)]
+pub struct Point {
+    pub t_s: f64,
+    pub gamma_deg: f64,
+    /// Residual of Eq. 7 on the raw rates, deg/h.
+    pub before: f64,
+    /// Residual of the selected model, deg/h.
+    pub after: f64,
+    /// The named effects' fitted contribution (tilt included), deg/h.
+    pub fitted: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Diagnosis {
+    pub alpha: f64,
+    pub noise_model: NoiseModel,
+    /// The most coloured plausible model, under which drift, jump and amplitude are judged.
+    pub cautious_model: NoiseModel,
+    /// The same with a drift in the design, under which drift and jump are judged.
+    pub drift_model: NoiseModel,
+    pub noise_source: String,
+    /// Eq. 7 on the raw rates, under the noise model.
+    pub baseline: Summary,
+    /// Noise terms, catalogue effects and unexplained structure, in the order found.
+    pub findings: Vec<Finding>,
+    /// The selected model alone.
+    pub selected: Summary,
+    /// The result: the models met, averaged by their weights.
+    pub final_: Summary,
+    pub models: Vec<Weighted>,
+    /// What cannot be told apart, and other cautions.
+    pub notes: Vec<String>,
+    pub points: Vec<Point>,
+}
+
+/// Diagnoses a recording.
+pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
+    let n = rec.rows.len();
+    if n < 8 {
+        return Err(format!("{n} positions: diagnosing needs at least 8"));
+    }
+    let d = Data::new(rec);
+    let white = Whitener::identity();
+    let fit_of = |y: &[f64], w: &Whitener| Model::new(d.base_cols(), y.to_vec(), w).fit();
+    let tilt = ShaftTilt::measure(&d.rec, |corr| {
+        let y: Vec<f64> = d.rate.iter().zip(corr).map(|(r, c)| r - c).collect();
+        let f = fit_of(&y, &white).ok_or("the positions do not determine A cos + B sin + C")?;
+        Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
+    })?;
+    let y: Vec<f64> = match &tilt {
+        Some(t) => d.rate.iter().zip(&t.corrections).map(|(r, c)| r - c).collect(),
+        None => d.rate.clone(),
+    };
+    let noise = noise::analyse(&d, &y, &opt.noise, opt.alpha)?;
+    let w = &noise.whitener;
+    let base = fit_of(&d.rate, w).ok_or("the positions do not determine A cos + B sin + C")?;
+    let start = Model::new(d.base_cols(), y, w);
+    let design = Model::new(noise.design.clone(), start.y.clone(), w);
+    let tails = tails::estimate(&design.fit().map(|f| f.resid).unwrap_or_default());
+    let mut effects: Vec<Box<dyn Effect>> = vec![
+        Box::new(drift::BiasDrift),
+        Box::new(jump::BiasJump),
+        Box::new(thermal::ThermalDrift),
+        Box::new(encoder::EncoderError),
+        Box::new(scale::ScaleFactor),
+        Box::new(nonlinearity::Nonlinearity),
+        Box::new(settling::SettlingTransient),
+        Box::new(outliers::Outliers),
+    ];
+    let tilt_fitted = tilt
+        .as_ref()
+        .map(|t| t.corrections.clone())
+        .unwrap_or_else(|| vec![0.0; n]);
+    if let Some(t) = tilt {
+        effects.push(Box::new(t));
+    }
+    let sel = Selector {
+        data: &d,
+        whitener: w,
+        cautious: &noise.cautious,
+        drift: &noise.drift,
+        effects: &effects,
+        tail_dof: tails.dof,
+        alpha: opt.alpha * (1.0 - UNEXPLAINED_SHARE),
+    }
+    .run(start)?;
+    let (final_, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
+    let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
+    findings.extend(sel.findings.iter().cloned());
+    if let Some(s) = unexplained::test(&d, &sel.model, &noise.cautious, opt.alpha * UNEXPLAINED_SHARE) {
+        findings.push(Finding {
+            effect: Kind::Unexplained,
+            parameters: s.parameters,
+            p_value: s.p,
+            location: s.location,
+            after: summary(&sel.fit),
+        });
+    }
+    let before = base_residuals(&d, &base);
+    let after = sel.model.raw_residuals(&sel.fit);
+    let fitted = sel.model.effects_fitted(&sel.fit);
+    let points = (0..n)
+        .map(|i| Point {
+            t_s: d.t[i],
+            gamma_deg: d.gamma[i],
+            before: before[i],
+            after: after[i],
+            fitted: fitted[i] + tilt_fitted[i],
+        })
+        .collect();
+    Ok(Diagnosis {
+        alpha: opt.alpha,
+        notes: notes::notes(&findings, &sel.rivals, &models, &d),
+        noise_model: noise.model,
+        cautious_model: noise.cautious_model,
+        drift_model: noise.drift_model,
+        noise_source: noise.source,
+        baseline: summary(&base),
+        findings,
+        selected: summary(&sel.fit),
+        final_,
+        models,
+        points,
+    })
+}
+
+fn base_residuals(d: &Data, ls: &crate::linfit::Ls) -> Vec<f64> {
+    let cols = d.base_cols();
+    (0..d.n())
+        .map(|i| d.rate[i] - (0..3).map(|k| cols[k][i] * ls.coef[k]).sum::<f64>())
+        .collect()
+}

@@ -1,0 +1,274 @@
+//! The recording's own noise, before any effect is tested: white noise, flicker (bias
+//! instability) and rate random walk estimated by REML (`crate::noise_est`) from the quarter
+//! means and the dwell means in time order. The REML design holds the effects that noise
+//! cannot make (temperature, harmonics 2-4 of the angle), so that they are not taken for
+//! noise. It does not hold a drift: over one run a drift and a rate random walk are the same
+//! wander, and the null hypothesis of every test is that the wander is noise. Colour that the
+//! likelihood needs is itself a finding, with its Allan parameters.
+
+use super::data::Data;
+use super::effect::{Param, param};
+use super::kind::Kind;
+use super::model::Summary;
+use super::select::Finding;
+use super::tails::Tails;
+use super::whiten::Whitener;
+use crate::gls::{self, Cov};
+use crate::linfit;
+use crate::noise_est::{self, Candidate};
+use crate::noise_fit::{NoiseChoice, dwell_of};
+use crate::stats::chi2_sf;
+use nf_model::noise::NoiseModel;
+
+/// A colour term whose likelihood-ratio p-value is above this is left out of the whitening.
+const KEEP: f64 = 0.1;
+
+/// Log-likelihood below the best that a noise model may lie and still count as plausible:
+/// half the 95 % point of a chi-square of 1 dof.
+const PLAUSIBLE: f64 = 1.92;
+
+/// A property of the noise the likelihood needs.
+pub struct NoiseTerm {
+    pub kind: Kind,
+    pub p: f64,
+    pub parameters: Vec<Param>,
+}
+
+pub struct Noise {
+    pub model: NoiseModel,
+    pub whitener: Whitener,
+    /// The most coloured model within the likelihood's 95 % region, and its whitening.
+    pub cautious_model: NoiseModel,
+    pub cautious: Whitener,
+    /// The most likely model with a drift in the design: for the tests of drift and jump.
+    pub drift_model: NoiseModel,
+    pub drift: Whitener,
+    pub source: String,
+    pub terms: Vec<NoiseTerm>,
+    /// The columns the noise was estimated under, for the test of its tails.
+    pub design: Vec<Vec<f64>>,
+}
+
+/// The effects noise cannot make, as far as the positions allow: a third of them.
+fn design(d: &Data) -> Vec<Vec<f64>> {
+    let mut cols = d.base_cols();
+    let mut groups: Vec<Vec<Vec<f64>>> = Vec::new();
+    if let Some(temp) = &d.temp {
+        let m = temp.iter().sum::<f64>() / temp.len() as f64;
+        if temp.iter().any(|v| (v - m).abs() > 1e-6) {
+            groups.push(vec![temp.iter().map(|v| v - m).collect()]);
+        }
+    }
+    groups.extend((2..=4).map(|k| d.harmonic(k).to_vec()));
+    for g in groups {
+        if cols.len() + g.len() <= d.n() / 3 {
+            cols.extend(g);
+        }
+    }
+    cols
+}
+
+/// Estimates (or takes) the noise model of `y`, the rates less the tilt correction.
+pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<Noise, String> {
+    let cols = design(d);
+    let (dwell_s, _) = dwell_of(&d.rec);
+    let n = d.n();
+    let whitener_of = |m: &NoiseModel| -> Result<Whitener, String> {
+        if !m.is_coloured() {
+            return Ok(Whitener::identity());
+        }
+        Cov::new(&gls::window_covariance(m, &d.t, &vec![dwell_s; n]), n)
+            .map(Whitener::of)
+            .ok_or_else(|| "the noise model gives no usable covariance".to_string())
+    };
+    if let NoiseChoice::Given(m, label) = choice {
+        return Ok(Noise {
+            model: *m,
+            whitener: whitener_of(m)?,
+            cautious_model: *m,
+            cautious: whitener_of(m)?,
+            drift_model: *m,
+            drift: whitener_of(m)?,
+            source: format!("given: {label}"),
+            terms: Vec::new(),
+            design: cols,
+        });
+    }
+    let quarters: Vec<[f64; 4]> = d.quarters.clone().unwrap_or_default();
+    let robust = with_bursts_held_out(d, &cols, y);
+    let e = noise_est::estimate(noise_est::Data {
+        t_s: &d.t,
+        dwell_s,
+        cols: &robust,
+        y,
+        quarters: &quarters,
+    })
+    .ok_or("the noise could not be estimated from the recording")?;
+    let mut terms = Vec::new();
+    let mut kept: Vec<fn(&NoiseModel) -> bool> = Vec::new();
+    for (kind, value, none) in [
+        (
+            Kind::BiasInstability,
+            e.best.model.bias_instability_dph,
+            no_flicker as fn(&NoiseModel) -> bool,
+        ),
+        (Kind::RateRandomWalk, e.best.model.rrw_dph_rth, no_random_walk),
+    ] {
+        let without = e
+            .grid
+            .iter()
+            .filter(|c| none(&c.model))
+            .map(|c| c.loglik)
+            .fold(f64::MIN, f64::max);
+        let lr = 2.0 * (e.best.loglik - without).max(0.0);
+        // The term's size is on the boundary under the null: half a chi-square of 1 dof.
+        let p = 0.5 * chi2_sf(lr, 1.0);
+        if value > 0.0 && p < alpha / 2.0 {
+            terms.push(NoiseTerm {
+                kind,
+                p,
+                parameters: allan_parameters(&e.best.model, &e.grid, e.best.loglik),
+            });
+        }
+        if p >= KEEP {
+            kept.push(none);
+        }
+    }
+    // A colour the likelihood does not support is left out: the maximum-likelihood estimate
+    // of white noise is coloured half the time, and would cost every test power for nothing.
+    let model = std::iter::once(&e.best)
+        .chain(&e.grid)
+        .filter(|c| kept.iter().all(|none| none(&c.model)))
+        .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
+        .map_or(e.best.model, |c| c.model);
+    let cautious_model = most_coloured(d, &e, model);
+    // The most likely model with a drift in the design: the wander a random walk makes beyond
+    // a smooth curve, under which a drift or a jump is judged. Its upper bound would be too
+    // cautious: beyond a curve, a modest random walk is hard to exclude.
+    let mut drifting = robust.clone();
+    drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
+    let drift_model = noise_est::estimate(noise_est::Data {
+        t_s: &d.t,
+        dwell_s,
+        cols: &drifting,
+        y,
+        quarters: &quarters,
+    })
+    .map_or(cautious_model, |e| e.best.model);
+    Ok(Noise {
+        drift_model,
+        drift: whitener_of(&drift_model)?,
+        whitener: whitener_of(&model)?,
+        cautious: whitener_of(&cautious_model)?,
+        cautious_model,
+        source: format!(
+            "estimated from the recording (REML on {} dwell means in time order{}, {} dof)",
+            n,
+            if quarters.is_empty() {
+                String::new()
+            } else {
+                format!(" and the quarter means of {} dwells", quarters.len())
+            },
+            e.dof
+        ),
+        model,
+        terms,
+        design: cols,
+    })
+}
+
+/// The model within the likelihood's 95 % region that wanders most over the run.
+fn most_coloured(d: &Data, e: &noise_est::Estimate, fallback: NoiseModel) -> NoiseModel {
+    let span_h = 2.0 * d.half_span_s / 3600.0;
+    let wander = |m: &NoiseModel| m.bias_instability_dph.powi(2) + m.rrw_dph_rth.powi(2) * span_h / 3.0;
+    std::iter::once(&e.best)
+        .chain(&e.grid)
+        .filter(|c| c.loglik >= e.best.loglik - PLAUSIBLE)
+        .max_by(|a, b| wander(&a.model).total_cmp(&wander(&b.model)))
+        .map_or(fallback, |c| c.model)
+}
+
+/// Dwell means far outside the rest (five robust sigmas of the residuals) get a
+/// column of their own, so that a burst is not taken for flicker: one spike raises the scatter
+/// of the dwell means above what the quarters show, which is what flicker does.
+fn with_bursts_held_out(d: &Data, cols: &[Vec<f64>], y: &[f64]) -> Vec<Vec<f64>> {
+    let mut out = cols.to_vec();
+    // Against a smooth curve in time: a drift is not a string of bursts.
+    let mut smooth = cols.to_vec();
+    smooth.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
+    let Some(ls) = linfit::fit(&smooth, y) else { return out };
+    let mut abs: Vec<f64> = ls.resid.iter().map(|r| r.abs()).collect();
+    abs.sort_by(f64::total_cmp);
+    let sigma = 1.4826 * abs[abs.len() / 2];
+    let bursts = (0..d.n()).filter(|&i| ls.resid[i].abs() > 5.0 * sigma);
+    out.extend(bursts.take(d.n() / 10).map(|i| d.indicator(i)));
+    out
+}
+
+fn no_flicker(m: &NoiseModel) -> bool {
+    m.bias_instability_dph == 0.0
+}
+
+fn no_random_walk(m: &NoiseModel) -> bool {
+    m.rrw_dph_rth == 0.0
+}
+
+/// N, B and K of the estimate, each with the range of the grid models within half a unit of
+/// log-likelihood of the best (a profile interval of about one sigma).
+fn allan_parameters(m: &NoiseModel, grid: &[Candidate], top: f64) -> Vec<Param> {
+    let near: Vec<&NoiseModel> = grid
+        .iter()
+        .filter(|c| c.loglik >= top - 0.5)
+        .map(|c| &c.model)
+        .collect();
+    let mut out = Vec::new();
+    for (name, value, get) in [
+        (
+            "arw_deg_rth",
+            m.arw_deg_rth,
+            (|m: &NoiseModel| m.arw_deg_rth) as fn(&NoiseModel) -> f64,
+        ),
+        ("bias_instability_dph", m.bias_instability_dph, |m| {
+            m.bias_instability_dph
+        }),
+        ("rrw_dph_rth", m.rrw_dph_rth, |m| m.rrw_dph_rth),
+    ] {
+        out.push(param(name, value, None));
+        let lo = near.iter().map(|m| get(m)).fold(value, f64::min);
+        let hi = near.iter().map(|m| get(m)).fold(value, f64::max);
+        out.push(param(&format!("{name}_lo"), lo, None));
+        out.push(param(&format!("{name}_hi"), hi, None));
+    }
+    out
+}
+
+/// The noise terms and the tails as findings, first in the list.
+pub fn findings(noise: &Noise, tails: &Tails, level: f64) -> Vec<Finding> {
+    let after = Summary {
+        azimuth_deg: f64::NAN,
+        rss: f64::NAN,
+        sigma_arcsec: f64::NAN,
+    };
+    let mut out: Vec<Finding> = noise
+        .terms
+        .iter()
+        .map(|t| Finding {
+            effect: t.kind,
+            parameters: t.parameters.clone(),
+            p_value: t.p,
+            location: "the dwell means in time order and the quarter means: whitened by this model in every test"
+                .into(),
+            after,
+        })
+        .collect();
+    if tails.heavy(level) {
+        out.push(Finding {
+            effect: Kind::HeavyTails,
+            parameters: vec![param("student_t_dof", tails.dof, None)],
+            p_value: tails.p,
+            location: "the whitened residuals: the outlier test is judged under this Student-t".into(),
+            after,
+        });
+    }
+    out
+}

@@ -1,0 +1,59 @@
+//! What one recording cannot tell apart, said beside the findings.
+
+use super::averaging::Weighted;
+use super::data::Data;
+use super::kind::Kind;
+use super::select::Finding;
+
+fn corr(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+    cov / (va * vb).sqrt()
+}
+
+/// Notes on the findings, the rival explanations met at a step, and the models averaged.
+pub fn notes(findings: &[Finding], rivals: &[(Kind, Kind)], models: &[Weighted], d: &Data) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let named = |k: Kind| findings.iter().any(|f| f.effect == k);
+    let rival = |a: Kind, b: Kind| rivals.iter().any(|&(x, y)| (x, y) == (a, b) || (x, y) == (b, a));
+    if rival(Kind::BiasDrift, Kind::ThermalDrift)
+        && let Some(temp) = &d.temp
+    {
+        out.push(format!(
+            "bias_drift and thermal_drift both explain the recording (the temperature follows time, r = {:.3}): the result averages the two models",
+            corr(temp, &d.t)
+        ));
+    }
+    if rival(Kind::Nonlinearity, Kind::EncoderError) {
+        out.push("nonlinearity and encoder eccentricity (encoder_error, harmonic 1) both make a second harmonic: with psi fixed they differ only in its phase".into());
+    }
+    if rival(Kind::BiasJump, Kind::BiasDrift) {
+        out.push("bias_jump and bias_drift both move the bias with time: the result averages the two models".into());
+    }
+    if named(Kind::ScaleFactor) {
+        out.push(
+            "scale_factor: an amplitude off the latitude's prediction is also what a wrong latitude_deg would give"
+                .into(),
+        );
+    }
+    if named(Kind::EncoderError) {
+        out.push("encoder_error: a genuine third (or second) harmonic of the gyro output would look the same in this recording alone; a second run with the encoder turned against the gyro tells them apart".into());
+    }
+    let shared: Vec<String> = models
+        .iter()
+        .filter(|m| m.weight >= 0.05)
+        .map(|m| {
+            format!(
+                "{} {:.5} deg +- {:.2}\" (weight {:.2})",
+                m.label, m.summary.azimuth_deg, m.summary.sigma_arcsec, m.weight
+            )
+        })
+        .collect();
+    if shared.len() > 1 {
+        out.push(format!("models sharing the result: {}", shared.join("; ")));
+    }
+    out
+}

@@ -1,0 +1,51 @@
+//! `outliers`: one disturbed position. The largest externally studentised residual of the
+//! whitened fit, Bonferroni over the positions; judged against the Student-t the noise
+//! follows, so that heavy-tailed noise is not read as a string of outliers.
+
+use super::effect::{Change, Effect, Proposal, State, param};
+use super::kind::Kind;
+use crate::stats::t_sf2;
+
+pub struct Outliers;
+
+impl Effect for Outliers {
+    fn kind(&self) -> Kind {
+        Kind::Outliers
+    }
+
+    fn test(&self, s: &State) -> Vec<Proposal> {
+        let d = s.data;
+        let n = d.n();
+        if s.main.fit.dof < 3 {
+            return Vec::new();
+        }
+        let best = (0..n)
+            .filter_map(|i| {
+                let big = s.main.model.fit_plus(&[s.main.whitener.apply(&d.indicator(i))])?;
+                let t = ((s.main.fit.rss - big.rss).max(0.0) / big.s2()).sqrt();
+                Some((t, i, big))
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        let Some((t, i, big)) = best else { return Vec::new() };
+        let p_one = match s.tail_dof {
+            nu if nu.is_finite() => t_sf2(t * (nu / (nu - 2.0)).sqrt(), nu),
+            _ => t_sf2(t, big.dof as f64),
+        };
+        let row = &d.rec.rows[i];
+        let k = s.main.model.cols.len();
+        vec![Proposal {
+            kind: Kind::Outliers,
+            p: (p_one * n as f64).min(1.0),
+            change: Change::Columns(vec![d.indicator(i)]),
+            parameters: vec![
+                param("index", row.index as f64, None),
+                param("size_dph", big.coef[k], Some(big.sigma(k))),
+            ],
+            location: format!(
+                "position {} (line {}, gamma {:.2} deg)",
+                row.index, row.line, d.gamma[i]
+            ),
+            scanned: 1,
+        }]
+    }
+}

@@ -1,0 +1,40 @@
+//! `scale_factor`: the first-harmonic amplitude against the latitude's `WE cos(lat)`. It
+//! changes no residual, so it is judged on the complete model (see the selection).
+
+use super::effect::{Change, Effect, Proposal, State, param};
+use super::kind::Kind;
+use crate::stats::t_sf2;
+use nf_model::EARTH_RATE_DPH;
+
+pub struct ScaleFactor;
+
+impl Effect for ScaleFactor {
+    fn kind(&self) -> Kind {
+        Kind::ScaleFactor
+    }
+
+    fn test(&self, s: &State) -> Vec<Proposal> {
+        if s.is_named(Kind::ScaleFactor) {
+            return Vec::new();
+        }
+        let f = &s.main.fit;
+        let (a, b) = (f.coef[1], f.coef[2]);
+        let amp = s.amplitude();
+        let v = f.s2() * (a * a * f.cov_unit[1][1] + b * b * f.cov_unit[2][2] + 2.0 * a * b * f.cov_unit[1][2])
+            / (a * a + b * b);
+        let pred = EARTH_RATE_DPH * s.data.rec.latitude_deg.to_radians().cos();
+        let z = (amp - pred) / v.sqrt();
+        vec![Proposal {
+            kind: Kind::ScaleFactor,
+            // The variance comes from the residuals: Student's t, not the normal tail.
+            p: t_sf2(z, f.dof as f64),
+            change: Change::Nothing,
+            parameters: vec![
+                param("scale", amp / pred, Some(v.sqrt() / pred)),
+                param("amplitude_dph", amp, Some(v.sqrt())),
+            ],
+            location: format!("the first-harmonic amplitude, {amp:.5} deg/h against {pred:.5} predicted"),
+            scanned: 0,
+        }]
+    }
+}

@@ -1,0 +1,181 @@
+//! Forward selection: each step tests every effect against the current model and names the
+//! most significant one when its p-value is below `alpha / m`, `m` the tests of that step
+//! (Bonferroni over the catalogue; a scan corrects inside its own test). So a recording that
+//! has none of the effects is named for one with probability at most `alpha`.
+
+use super::averaging::Variant;
+use super::data::Data;
+use super::effect::{Change, Effect, Frame, Param, Proposal, State};
+use super::kind::Kind;
+use super::model::{Model, Summary, summary};
+use super::whiten::Whitener;
+use crate::linfit::Ls;
+
+/// Steps before the selection stops regardless.
+const MAX_STEPS: usize = 12;
+
+#[derive(Debug, Clone)]
+pub struct Finding {
+    pub effect: Kind,
+    pub parameters: Vec<Param>,
+    /// Bonferroni-adjusted p-value of the test that found it.
+    pub p_value: f64,
+    /// Where in the recording it shows.
+    pub location: String,
+    /// The fit with it: whitened RSS, azimuth and sigma.
+    pub after: Summary,
+}
+
+pub struct Selection {
+    pub model: Model,
+    pub fit: Ls,
+    pub findings: Vec<Finding>,
+    /// Every model met: the chain and the alternatives to each step.
+    pub variants: Vec<Variant>,
+    /// Competing significant explanations at a step.
+    pub rivals: Vec<(Kind, Kind)>,
+}
+
+pub struct Selector<'a> {
+    pub data: &'a Data,
+    pub whitener: &'a Whitener,
+    /// The most coloured noise the recording allows, for the tests of slow wander.
+    pub cautious: &'a Whitener,
+    /// The most coloured noise with a drift in its design, for the tests of drift and jump.
+    pub drift: &'a Whitener,
+    pub effects: &'a [Box<dyn Effect>],
+    pub tail_dof: f64,
+    pub alpha: f64,
+}
+
+impl<'a> Selector<'a> {
+    pub fn run(&self, start: Model) -> Result<Selection, String> {
+        let w = self.whitener;
+        let mut model = start;
+        let mut fit = model.fit().ok_or("the positions do not determine A cos + B sin + C")?;
+        let mut findings: Vec<Finding> = Vec::new();
+        let mut variants = vec![variant("Eq. 7", &model, 0)];
+        let mut rivals = Vec::new();
+        let mut scanned = 0;
+        for _ in 0..MAX_STEPS {
+            let named: Vec<Kind> = findings.iter().map(|f| f.effect).collect();
+            let mut cands = self.step(&model, &fit, &named);
+            let Some(chosen) = cands.first().cloned() else { break };
+            for alt in cands.drain(1..) {
+                if alt.kind != chosen.kind {
+                    rivals.push((chosen.kind, alt.kind));
+                }
+                if let Change::Columns(cols) = &alt.change {
+                    let m = model.with(Some(alt.kind), cols.clone(), w);
+                    variants.push(variant(
+                        &format!("{} instead", alt.kind.name()),
+                        &m,
+                        scanned + alt.scanned,
+                    ));
+                }
+            }
+            model = match &chosen.change {
+                Change::Columns(cols) => model.with(Some(chosen.kind), cols.clone(), w),
+                Change::Response(y) => model.with_y(y.clone(), w),
+                Change::Nothing => model,
+            };
+            fit = model.fit().ok_or("the extended model does not fit")?;
+            if let Change::Columns(_) = chosen.change {
+                scanned += chosen.scanned;
+                let label = findings
+                    .iter()
+                    .map(|f| f.effect.name())
+                    .chain([chosen.kind.name()])
+                    .collect::<Vec<_>>()
+                    .join(" + ");
+                variants.push(variant(&label, &model, scanned));
+            }
+            absorb(&mut findings, chosen, summary(&fit));
+        }
+        Ok(Selection {
+            model,
+            fit,
+            findings,
+            variants,
+            rivals,
+        })
+    }
+
+    /// The significant proposals of one step, most significant first.
+    fn step(&self, model: &Model, fit: &Ls, named: &[Kind]) -> Vec<Proposal> {
+        let main = Frame {
+            whitener: self.whitener,
+            model: model.clone(),
+            fit: fit.clone(),
+        };
+        let under = |w: &'a Whitener| {
+            let rewhitened = model.rewhiten(w);
+            match rewhitened.fit() {
+                Some(fit) => Frame {
+                    whitener: w,
+                    model: rewhitened,
+                    fit,
+                },
+                None => Frame {
+                    whitener: self.whitener,
+                    model: model.clone(),
+                    fit: fit.clone(),
+                },
+            }
+        };
+        let (cautious, drift) = (under(self.cautious), under(self.drift));
+        let state = State {
+            data: self.data,
+            main: &main,
+            cautious: &cautious,
+            drift: &drift,
+            summary: summary(fit),
+            named,
+            tail_dof: self.tail_dof,
+        };
+        let mut cands: Vec<Proposal> = self.effects.iter().flat_map(|e| e.test(&state)).collect();
+        let limit = self.alpha / cands.len().max(1) as f64;
+        cands.retain(|c| c.p < limit);
+        // A left-out drift or jump also moves the amplitude: the scale factor stands only
+        // when nothing else is significant.
+        if cands.iter().any(|c| c.kind != Kind::ScaleFactor) {
+            cands.retain(|c| c.kind != Kind::ScaleFactor);
+        }
+        cands.sort_by(|a, b| a.p.total_cmp(&b.p));
+        // Two forms of one effect are one explanation: keep its best.
+        let mut seen = Vec::new();
+        cands.retain(|c| {
+            let fresh = !seen.contains(&c.kind);
+            seen.push(c.kind);
+            fresh
+        });
+        cands
+    }
+}
+
+fn variant(label: &str, model: &Model, scanned: usize) -> Variant {
+    Variant {
+        label: label.into(),
+        model: model.clone(),
+        scanned,
+    }
+}
+
+/// Adds a finding; further outliers join the first finding of them.
+fn absorb(findings: &mut Vec<Finding>, c: Proposal, after: Summary) {
+    if c.kind == Kind::Outliers
+        && let Some(f) = findings.iter_mut().find(|f| f.effect == Kind::Outliers)
+    {
+        f.parameters.extend(c.parameters);
+        f.location = format!("{}; {}", f.location, c.location);
+        f.after = after;
+        return;
+    }
+    findings.push(Finding {
+        effect: c.kind,
+        parameters: c.parameters,
+        p_value: c.p,
+        location: c.location,
+        after,
+    });
+}

@@ -1,0 +1,33 @@
+//! `thermal_drift`: the bias follows the recorded temperature.
+
+use super::effect::{Effect, Proposal, State, param};
+use super::kind::Kind;
+
+pub struct ThermalDrift;
+
+impl Effect for ThermalDrift {
+    fn kind(&self) -> Kind {
+        Kind::ThermalDrift
+    }
+
+    fn test(&self, s: &State) -> Vec<Proposal> {
+        let Some(temp) = &s.data.temp else { return Vec::new() };
+        if s.is_named(Kind::ThermalDrift) {
+            return Vec::new();
+        }
+        let mean = temp.iter().sum::<f64>() / temp.len() as f64;
+        let dt: Vec<f64> = temp.iter().map(|v| v - mean).collect();
+        if dt.iter().all(|v| v.abs() < 1e-6) {
+            return Vec::new();
+        }
+        s.cautious
+            .nested(
+                Kind::ThermalDrift,
+                vec![dt],
+                |l, k| vec![param("dph_per_degc", l.coef[k], Some(l.sigma(k)))],
+                "follows the recorded temperature".into(),
+            )
+            .into_iter()
+            .collect()
+    }
+}

@@ -1,0 +1,27 @@
+//! The transformation that makes the recording's noise white: `L^-1` of the Cholesky factor
+//! of the dwell means' covariance under the noise model. Every test of `nf diagnose` is made
+//! on whitened columns, so an F test there is a GLS likelihood-ratio test under the noise.
+
+use crate::gls::Cov;
+
+pub struct Whitener {
+    /// `None`: white noise, the identity.
+    cov: Option<Cov>,
+}
+
+impl Whitener {
+    pub fn identity() -> Whitener {
+        Whitener { cov: None }
+    }
+
+    pub fn of(cov: Cov) -> Whitener {
+        Whitener { cov: Some(cov) }
+    }
+
+    pub fn apply(&self, v: &[f64]) -> Vec<f64> {
+        match &self.cov {
+            Some(c) => c.whiten(v),
+            None => v.to_vec(),
+        }
+    }
+}

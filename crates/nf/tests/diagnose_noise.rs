@@ -1,0 +1,176 @@
+//! `nf diagnose` under the recording's own noise: clean recordings with flicker, random walk or
+//! heavy-tailed dwell means are not named for catalogue effects (at the stated rate), the
+//! colour and the tails are findings of their own, and a white-noise test on the same
+//! recordings would have named effects that are not there.
+
+use nf::diagnose::{Diagnosis, Kind, Options, diagnose};
+use nf::noise_fit::NoiseChoice;
+use nf::recording::Recording;
+use nf_instrument::run::{RunConfig, TiltPolicy};
+use nf_model::noise::NoiseModel;
+use nf_twin::{Recorder, Rng, TwinConfig, simulate};
+
+const DWELL_S: f64 = 1.0;
+const POSITIONS: u16 = 48;
+
+/// A clean recording with `noise`: level, no effect, 1 s dwells.
+fn clean(noise: NoiseModel, seed: u64) -> Recording {
+    let mut twin = TwinConfig {
+        seed,
+        noise,
+        settle_dph: 0.0,
+        ..TwinConfig::default()
+    };
+    twin.instrument.tilt_deg = 0.0;
+    twin.instrument.latitude_deg = 40.0;
+    twin.instrument.psi_deg = (seed as f64 * 47.0) % 360.0;
+    let run = RunConfig {
+        positions: POSITIONS,
+        dwell_ms: (DWELL_S * 1000.0) as u32,
+        settle_ms: 100,
+        latitude_deg: 40.0,
+        tilt_policy: TiltPolicy::Warn,
+        tilt_correction: false,
+        ..RunConfig::default()
+    };
+    let mut rec = Recorder::default();
+    simulate(&twin, &run, &mut rec);
+    Recording::parse(&rec.text()).unwrap()
+}
+
+fn white() -> NoiseModel {
+    NoiseModel::white(0.005, 2.0)
+}
+
+/// Flicker with its floor `ratio` times the white noise of a dwell mean.
+fn flicker(ratio: f64) -> NoiseModel {
+    let w = white();
+    NoiseModel {
+        bias_instability_dph: ratio * w.white_mean_sd_dph(DWELL_S) / 0.664,
+        ..w
+    }
+}
+
+/// Rate random walk that wanders `ratio` times a dwell mean's white noise over the run.
+fn random_walk(ratio: f64) -> NoiseModel {
+    let w = white();
+    let run_h = POSITIONS as f64 * 1.5 / 3600.0;
+    NoiseModel {
+        rrw_dph_rth: ratio * w.white_mean_sd_dph(DWELL_S) / (run_h / 3.0).sqrt(),
+        ..w
+    }
+}
+
+fn named(d: &Diagnosis, k: Kind) -> bool {
+    d.findings.iter().any(|f| f.effect == k)
+}
+
+fn false_alarm(d: &Diagnosis) -> bool {
+    d.findings.iter().any(|f| !f.effect.is_noise())
+}
+
+/// Over `runs` recordings of `noise(ratio)` with the ratio log-uniform in 0.5-5: false alarms
+/// of the noise-aware diagnosis and of one told the noise is white.
+fn false_alarms(noise: fn(f64) -> NoiseModel, runs: u64) -> (u32, u32) {
+    let mut rng = Rng::new(17);
+    let (mut ours, mut whites) = (0, 0);
+    let told_white = Options {
+        noise: NoiseChoice::Given(white(), "white".into()),
+        ..Options::default()
+    };
+    for seed in 0..runs {
+        let ratio = 0.5 * 10f64.powf(rng.unit());
+        let rec = clean(noise(ratio), 100 + seed);
+        let d = diagnose(&rec, &Options::default()).unwrap();
+        ours += false_alarm(&d) as u32;
+        whites += false_alarm(&diagnose(&rec, &told_white).unwrap()) as u32;
+    }
+    (ours, whites)
+}
+
+/// How often the colour is named at a given ratio.
+fn colour_found(noise: NoiseModel, colour: Kind, runs: u64) -> u32 {
+    (0..runs)
+        .map(|seed| {
+            named(
+                &diagnose(&clean(noise, 700 + seed), &Options::default()).unwrap(),
+                colour,
+            ) as u32
+        })
+        .sum()
+}
+
+#[test]
+fn flicker_is_a_finding_not_a_catalogue_effect() {
+    let (ours, whites) = false_alarms(flicker, 40);
+    let found = colour_found(flicker(5.0), Kind::BiasInstability, 20);
+    println!("flicker: false alarms {ours}/40 (told white: {whites}/40); at 5 times, named {found}/20");
+    // alpha = 0.05: 6 or more of 40 has probability 1.4 %.
+    assert!(ours <= 5, "{ours} false alarms of 40");
+    assert!(
+        whites >= 2 * ours.max(3),
+        "a white-noise test would not have done worse: {whites}"
+    );
+    assert!(found >= 16, "bias_instability named in {found} of 20");
+}
+
+#[test]
+fn a_random_walk_is_a_finding_not_a_drift() {
+    let (ours, whites) = false_alarms(random_walk, 40);
+    let found = colour_found(random_walk(20.0), Kind::RateRandomWalk, 20);
+    println!("random walk: false alarms {ours}/40 (told white: {whites}/40); at 20 times, named {found}/20");
+    // Over one run a random walk of this size and a drift are hard to tell apart: the goal of
+    // 5 % is not met (13 of 40 today); what holds is that the noise model halves the white
+    // test's rate, and no more than that is claimed here.
+    assert!(ours <= 16, "{ours} false alarms of 40");
+    assert!(
+        2 * ours <= whites + 4,
+        "the noise model does not help: {ours} against {whites}"
+    );
+    assert!(found >= 13, "rate_random_walk named in {found} of 20");
+}
+
+/// Student-t noise of 3 dof on the dwell means, or one burst on Gaussian noise. The quarter
+/// means are dropped: they would not show the added noise.
+fn heavy(rec: &mut Recording, rng: &mut Rng, burst: bool) {
+    let sd = 0.004;
+    let n = rec.rows.len();
+    for (i, r) in rec.rows.iter_mut().enumerate() {
+        r.quarters_dph = None;
+        let e = if burst {
+            sd * rng.gauss() + if i == n / 3 { 12.0 * sd } else { 0.0 }
+        } else {
+            let chi2: f64 = (0..3).map(|_| rng.gauss().powi(2)).sum();
+            sd * rng.gauss() / (chi2 / 3.0).sqrt()
+        };
+        r.rate_dph += e;
+    }
+}
+
+#[test]
+fn heavy_tails_are_not_a_string_of_outliers_and_a_burst_is_an_outlier() {
+    let mut rng = Rng::new(23);
+    let quiet = NoiseModel::white(0.0005, 2.0);
+    let (mut outliers, mut tails, mut burst_found, mut burst_tails) = (0, 0, 0, 0);
+    for seed in 0..30 {
+        let mut rec = clean(quiet, 300 + seed);
+        heavy(&mut rec, &mut rng, false);
+        let d = diagnose(&rec, &Options::default()).unwrap();
+        outliers += named(&d, Kind::Outliers) as u32;
+        tails += named(&d, Kind::HeavyTails) as u32;
+        let mut rec = clean(quiet, 400 + seed);
+        heavy(&mut rec, &mut rng, true);
+        let d = diagnose(&rec, &Options::default()).unwrap();
+        burst_found += named(&d, Kind::Outliers) as u32;
+        burst_tails += named(&d, Kind::HeavyTails) as u32;
+    }
+    println!(
+        "t3: outliers {outliers}/30, heavy_tails {tails}/30; burst: outliers {burst_found}/30, heavy_tails {burst_tails}/30"
+    );
+    assert!(outliers <= 4, "heavy-tailed noise named outliers in {outliers} of 30");
+    // The tails of 48 dwell means are a weak test (the unit test of `tails` shows its power at
+    // 200): what must hold is that the outlier test is not fooled by them.
+    assert!(tails >= 1, "heavy_tails never named in 30 Student-t recordings");
+    assert!(burst_found >= 27, "a 12-sigma burst found in {burst_found} of 30");
+    assert!(burst_tails <= 4, "a burst taken for heavy tails in {burst_tails} of 30");
+}
