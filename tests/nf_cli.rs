@@ -279,7 +279,13 @@ fn diagnose_json_schema_and_bad_inputs() {
     for k in ["azimuth_deg", "rss"] {
         assert!(j["baseline"][k].is_f64() && j["final"][k].is_f64(), "{k}");
     }
-    let f = &j["findings"][0];
+    // Noise terms come first; the first effect is the jump.
+    let f = j["findings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["noise"] == false)
+        .unwrap();
     assert_eq!(f["effect"], "bias_jump");
     assert!(f["parameters"]["size_dph"]["value"].is_f64());
     assert!(f["after"]["rss"].as_f64().unwrap() < j["baseline"]["rss"].as_f64().unwrap());
@@ -294,7 +300,7 @@ fn diagnose_json_schema_and_bad_inputs() {
     assert!((weights - 1.0).abs() < 1e-9, "model weights sum to {weights}");
     let (code, out, _) = nf(&["diagnose", &path]);
     assert_eq!(code, 0);
-    assert!(out.contains("1. bias_jump") && out.contains("final:"), "{out}");
+    assert!(out.contains(". bias_jump (p = ") && out.contains("final:"), "{out}");
     let (code, _, err) = nf(&["diagnose"]);
     assert_eq!(code, 2, "{err}");
     let (code, _, err) = nf(&["diagnose", &path, "--alpha", "1.5"]);
