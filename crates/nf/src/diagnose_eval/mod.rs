@@ -1,12 +1,30 @@
 //! The diagnose test suite: twin recordings with each effect concealed (from barely
 //! detectable to clear) in random instruments, and clean ones for the false-alarm rate.
 
+mod metrics;
+
+pub use metrics::{Tally, Truth};
+
 use crate::diagnose::{EFFECTS, diagnose};
 use crate::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::angle::wrap_180;
 use nf_model::noise::NoiseModel;
 use nf_twin::{Recorder, Rng, TwinConfig, simulate};
+
+/// What the suite needs of one diagnosis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// Catalogue effects named, in the order found (e.g. "bias_drift", "encoder_error", "unexplained").
+    pub effects: Vec<&'static str>,
+    /// Noise findings named (e.g. "bias_instability", "rate_random_walk", "correlated_noise",
+    /// "heavy_tails"); never false alarms.
+    pub noise_terms: Vec<&'static str>,
+    pub baseline_deg: f64,
+    pub baseline_sigma_arcsec: f64,
+    pub final_deg: f64,
+    pub final_sigma_arcsec: f64,
+}
 
 /// Magnitude levels, named.
 pub const LEVELS: [&str; 3] = ["barely", "moderate", "clear"];
