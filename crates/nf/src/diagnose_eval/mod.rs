@@ -1,6 +1,8 @@
 //! The diagnose test suite: twin recordings with each effect concealed (from barely
 //! detectable to clear) in random instruments, and clean ones for the false-alarm rate.
 
+mod cases;
+mod damage;
 mod metrics;
 
 pub use metrics::{Tally, Truth};
