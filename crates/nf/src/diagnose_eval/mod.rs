@@ -4,6 +4,7 @@
 mod cases;
 mod damage;
 mod metrics;
+mod noise_kinds;
 
 pub use metrics::{Tally, Truth};
 
