@@ -2,6 +2,7 @@
 //! detectable to clear) in random instruments, and clean ones for the false-alarm rate.
 
 mod cases;
+mod conceal;
 mod damage;
 mod metrics;
 mod noise_kinds;
