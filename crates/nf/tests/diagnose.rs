@@ -1,35 +1,62 @@
 //! `nf diagnose` on twin recordings with concealed effects, and on clean ones.
 
-use nf::diagnose::{EFFECTS, diagnose};
-use nf::diagnose_eval::evaluate;
+use nf::diagnose::diagnose;
+use nf::diagnose_eval::{EFFECTS, EvalOptions, NOISE_TERMS, Outcome, evaluate};
 use nf::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_twin::{Recorder, TwinConfig, simulate};
 
+/// Today's diagnosis as the suite sees it.
+fn outcome(rec: &Recording) -> Option<Outcome> {
+    let d = diagnose(rec, 0.05).ok()?;
+    let (noise_terms, effects) = d
+        .findings
+        .iter()
+        .map(|f| f.effect)
+        .partition(|e| NOISE_TERMS.contains(e));
+    Some(Outcome {
+        effects,
+        noise_terms,
+        baseline_deg: d.baseline.azimuth_deg,
+        baseline_sigma_arcsec: d.baseline.sigma_arcsec,
+        final_deg: d.final_.azimuth_deg,
+        final_sigma_arcsec: d.final_.sigma_arcsec,
+    })
+}
+
 #[test]
 fn clear_effects_are_named_first_and_clean_recordings_stay_clean() {
-    let ev = evaluate(4, 60, &[2], 0.05, || {});
+    let opts = EvalOptions {
+        seeds: 4,
+        clean: 60,
+        category: Some("white".into()),
+    };
+    let ev = evaluate(&opts, &outcome, &mut || {});
+    let white = &ev.categories[0];
+    let clear: Vec<_> = white.rows.iter().filter(|r| r.label.ends_with(" clear")).collect();
+    assert_eq!(clear.len(), EFFECTS.len());
     let mut first = 0;
-    for (effect, level, cell) in &ev.cells {
-        println!("{effect:<20} {level}: named first {}/{}", cell.named_first, cell.runs);
-        assert_eq!(cell.runs, 4);
-        assert!(cell.named >= 3, "{effect} at {level}: named {} of 4", cell.named);
-        first += cell.named_first;
+    for r in &clear {
+        let t = &r.tally;
+        println!("{:<28}: named first {}/{}", r.label, t.named_first, t.runs);
+        assert_eq!(t.runs, 4);
+        assert!(t.recalled >= 3, "{}: named {} of 4", r.label, t.recalled);
+        first += t.named_first;
     }
-    assert_eq!(ev.cells.len(), EFFECTS.len());
     assert!(first as f64 >= 0.85 * (4 * EFFECTS.len()) as f64, "named first {first}");
-    println!("false alarms {} of {}", ev.false_alarms, ev.clean_runs);
+    let clean = &white.rows[0].tally;
+    println!("false alarms {} of {}", clean.false_alarms, clean.clean);
+    assert_eq!(clean.clean, 60);
     // alpha = 0.05: more than 7 of 60 would have probability below 1.5%.
-    assert!(ev.false_alarms <= 7, "{}", ev.false_alarms);
+    assert!(clean.false_alarms <= 7, "{}", clean.false_alarms);
     // Modelling the clear effects brings the azimuth back: drift, jump and encoder error bias it.
-    for (effect, _, cell) in &ev.cells {
-        if ["bias_drift", "bias_jump", "encoder_error"].contains(effect) {
-            assert!(
-                cell.rms_after < 0.5 * cell.rms_before,
-                "{effect}: {} -> {}",
-                cell.rms_before,
-                cell.rms_after
-            );
+    for r in &clear {
+        if ["bias_drift", "bias_jump", "encoder_error"]
+            .iter()
+            .any(|e| r.label.starts_with(e))
+        {
+            let (before, after) = (r.tally.rms_baseline().unwrap(), r.tally.rms_final().unwrap());
+            assert!(after < 0.5 * before, "{}: {before} -> {after}", r.label);
         }
     }
 }
