@@ -41,6 +41,8 @@ pub struct Tally {
     pub beyond_3_sigma: u32,
     /// How often each noise term was named.
     pub noise_named: BTreeMap<&'static str, u32>,
+    /// How often each effect was named on a clean recording.
+    pub false_named: BTreeMap<&'static str, u32>,
 }
 
 /// Azimuth error, arcsec, wrapped to +-180 deg.
@@ -59,6 +61,7 @@ impl Tally {
         if truth.effects.is_empty() {
             self.clean += 1;
             self.false_alarms += u32::from(!o.effects.is_empty());
+            count(&mut self.false_named, &o.effects);
         } else {
             self.with_effect += 1;
             self.named_first += u32::from(o.effects.first().is_some_and(|e| truth.effects.contains(e)));
@@ -71,9 +74,7 @@ impl Tally {
         self.sq_err_final += after * after;
         self.worse_than_baseline += u32::from(after.abs() - before.abs() > 3.0 * o.baseline_sigma_arcsec);
         self.beyond_3_sigma += u32::from(after.abs() > 3.0 * o.final_sigma_arcsec);
-        for term in &o.noise_terms {
-            *self.noise_named.entry(term).or_default() += 1;
-        }
+        count(&mut self.noise_named, &o.noise_terms);
     }
 
     /// Adds another tally's counts (a category's total from its rows).
@@ -90,8 +91,13 @@ impl Tally {
         self.sq_err_final += other.sq_err_final;
         self.worse_than_baseline += other.worse_than_baseline;
         self.beyond_3_sigma += other.beyond_3_sigma;
-        for (term, k) in &other.noise_named {
-            *self.noise_named.entry(term).or_default() += k;
+        for (mine, theirs) in [
+            (&mut self.noise_named, &other.noise_named),
+            (&mut self.false_named, &other.false_named),
+        ] {
+            for (name, k) in theirs {
+                *mine.entry(name).or_default() += k;
+            }
         }
     }
 
@@ -117,6 +123,12 @@ impl Tally {
 
     pub fn rms_final(&self) -> Option<f64> {
         (self.runs > 0).then(|| (self.sq_err_final / self.runs as f64).sqrt())
+    }
+}
+
+fn count(counts: &mut BTreeMap<&'static str, u32>, names: &[&'static str]) {
+    for name in names {
+        *counts.entry(name).or_default() += 1;
     }
 }
 
@@ -205,6 +217,7 @@ mod tests {
         assert_eq!(t.recall(), Some(0.75));
         assert_eq!(t.false_alarm_rate(), Some(0.5));
         assert_eq!(t.noise_named["bias_instability"], 4);
+        assert_eq!(t.false_named.iter().collect::<Vec<_>>(), [(&"bias_jump", &1)]);
         let mut total = Tally::default();
         total.merge(&t);
         total.merge(&t);

@@ -2,6 +2,7 @@
 
 use super::{Evaluation, Tally};
 use serde_json::{Value, json};
+use std::collections::BTreeMap;
 use std::fmt::Write;
 
 const LEGEND: &str = "\
@@ -22,7 +23,7 @@ fn arcsec(v: Option<f64>) -> String {
 fn line(out: &mut String, label: &str, t: &Tally) {
     let _ = writeln!(
         out,
-        "  {label:<40} {:>5} {:>6} {:>6} {:>6} {:>9} {:>9} {:>6} {:>6}",
+        "  {label:<42} {:>5} {:>6} {:>6} {:>6} {:>9} {:>9} {:>6} {:>6}",
         t.runs,
         percent(t.named_first_rate()),
         percent(t.recall()),
@@ -34,17 +35,25 @@ fn line(out: &mut String, label: &str, t: &Tally) {
     );
 }
 
+/// A line of how often each name was given, if any was.
+fn counts(out: &mut String, what: &str, named: &BTreeMap<&'static str, u32>) {
+    if !named.is_empty() {
+        let list: Vec<String> = named.iter().map(|(n, k)| format!("{n} x{k}")).collect();
+        let _ = writeln!(out, "  {what}: {}", list.join(", "));
+    }
+}
+
 /// The table: a group per category, a line per row and one for the category's total.
 pub fn text(ev: &Evaluation, alpha: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "  {:<40} {:>5} {:>6} {:>6} {:>6} {:>9} {:>9} {:>6} {:>6}",
+        "  {:<42} {:>5} {:>6} {:>6} {:>6} {:>9} {:>9} {:>6} {:>6}",
         "row", "runs", "named", "recall", "false", "rms", "rms", "worse", "beyond"
     );
     let _ = writeln!(
         out,
-        "  {:<40} {:>5} {:>6} {:>6} {:>6} {:>9} {:>9} {:>6} {:>6}",
+        "  {:<42} {:>5} {:>6} {:>6} {:>6} {:>9} {:>9} {:>6} {:>6}",
         "", "", "first", "", "alarms", "baseline", "final", "3 sd", "3 sd"
     );
     for c in &ev.categories {
@@ -57,10 +66,8 @@ pub fn text(ev: &Evaluation, alpha: f64) -> String {
             line(&mut out, &r.label, &r.tally);
         }
         line(&mut out, "all", &c.total);
-        if !c.total.noise_named.is_empty() {
-            let named: Vec<String> = c.total.noise_named.iter().map(|(n, k)| format!("{n} x{k}")).collect();
-            let _ = writeln!(out, "  noise terms named: {}", named.join(", "));
-        }
+        counts(&mut out, "named on clean recordings", &c.total.false_named);
+        counts(&mut out, "noise terms named", &c.total.noise_named);
     }
     let _ = write!(out, "alpha {alpha} per selection step\n{LEGEND}");
     out
@@ -78,6 +85,7 @@ fn tally_json(t: &Tally) -> Value {
         "worse_than_baseline_3sigma": t.worse_than_baseline,
         "beyond_3_reported_sigma": t.beyond_3_sigma,
         "noise_terms_named": t.noise_named,
+        "named_on_clean": t.false_named,
     })
 }
 
