@@ -3,11 +3,12 @@
 use super::noise_args::NoiseArgs;
 use super::{Fail, read_recording};
 use crate::diagnose::{Diagnosis, Options, Point, Summary, diagnose};
+use crate::diagnose_eval::{self, EvalOptions};
 use crate::noise_fit::NoiseChoice;
-use crate::plot::{Panel, Series, Style};
+use crate::plot::{self, Panel, Series, Style};
 use crate::range::above;
+use crate::recording::Recording;
 use crate::report::Page;
-use crate::{diagnose_eval, plot};
 use nf_model::noise::NoiseModel;
 use serde_json::{Value, json};
 use std::io::Write;
@@ -30,15 +31,18 @@ pub struct DiagnoseArgs {
     /// Run the suite of twin recordings with concealed effects and print the rates.
     #[arg(long)]
     evaluate: bool,
-    /// Recordings per effect and magnitude in the suite.
+    /// Recordings per effect row of the suite.
     #[arg(long, allow_hyphen_values = true, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     seeds: u32,
-    /// Clean recordings in the suite.
+    /// Clean recordings per clean row of the suite (each noise kind, visiting order, high latitudes).
     #[arg(long, allow_hyphen_values = true, default_value_t = 200, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     clean: u32,
     /// The gyro's noise model; without one it is estimated from the recording.
     #[command(flatten)]
     noise: NoiseArgs,
+    /// Run one category of the suite only.
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(diagnose_eval::category_names()))]
+    category: Option<String>,
 }
 
 pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
@@ -250,56 +254,25 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
 }
 
 fn diagnose_evaluate(a: &DiagnoseArgs) -> Result<(), Fail> {
-    let total = (a.seeds as u64) * (crate::diagnose::Kind::CATALOGUE.len() * diagnose_eval::LEVELS.len()) as u64
-        + a.clean as u64;
-    let bar = indicatif::ProgressBar::new(total);
-    let ev = diagnose_eval::evaluate(a.seeds, a.clean, &[0, 1, 2], a.alpha, || bar.inc(1));
+    let opts = EvalOptions {
+        seeds: a.seeds,
+        clean: a.clean,
+        category: a.category.clone(),
+    };
+    let bar = indicatif::ProgressBar::new(diagnose_eval::planned_runs(&opts));
+    let opt = Options {
+        alpha: a.alpha,
+        ..Options::default()
+    };
+    let diag = |rec: &Recording| diagnose(rec, &opt).ok().map(|d| diagnose_eval::outcome_of(&d));
+    let ev = diagnose_eval::evaluate(&opts, &diag, &mut || bar.inc(1));
     bar.finish_and_clear();
-    let fa = ev.false_alarms as f64 / ev.clean_runs.max(1) as f64;
     let mut out = std::io::stdout().lock();
     if a.json {
-        let cells: Vec<Value> = ev
-            .cells
-            .iter()
-            .map(|(e, l, c)| json!({"effect": e, "level": l, "runs": c.runs, "named_first_rate": c.named_first as f64 / c.runs.max(1) as f64,
-                                   "named_rate": c.named as f64 / c.runs.max(1) as f64, "rms_error_before_arcsec": c.rms_before, "rms_error_after_arcsec": c.rms_after}))
-            .collect();
-        writeln!(
-            out,
-            "{}",
-            serde_json::to_string_pretty(
-                &json!({"alpha": a.alpha, "cells": cells, "clean_runs": ev.clean_runs, "false_alarm_rate": fa})
-            )
-            .unwrap_or_default()
-        )?;
-        return Ok(());
-    }
-    writeln!(
-        out,
-        "{:<20} {:<9} {:>5} {:>12} {:>8} {:>12} {:>12}",
-        "effect", "level", "runs", "named first", "named", "rms err bef.", "rms err aft."
-    )?;
-    for (e, l, c) in &ev.cells {
-        let k = c.runs.max(1) as f64;
-        writeln!(
-            out,
-            "{e:<20} {l:<9} {:>5} {:>11.0}% {:>7.0}% {:>11.1}\" {:>11.1}\"",
-            c.runs,
-            100.0 * c.named_first as f64 / k,
-            100.0 * c.named as f64 / k,
-            c.rms_before,
-            c.rms_after
-        )?;
-    }
-    writeln!(
-        out,
-        "clean recordings: {} runs, false-alarm rate {:.1}% (alpha {} per step)",
-        ev.clean_runs,
-        100.0 * fa,
-        a.alpha
-    )?;
-    for (e, k) in ev.false_by_effect.iter().filter(|e| e.1 > 0) {
-        writeln!(out, "  named on clean runs: {e} x{k}")?;
+        let j = diagnose_eval::json(&ev, a.alpha);
+        writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
+    } else {
+        write!(out, "{}", diagnose_eval::text(&ev, a.alpha))?;
     }
     Ok(())
 }
