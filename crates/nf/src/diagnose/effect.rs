@@ -81,13 +81,11 @@ impl Frame<'_> {
 
 /// What a test sees: the recording, the model so far fitted under the noise model (`main`)
 /// and under the most coloured noise model the recording allows (`cautious`). Tests of a
-/// column (temperature, encoder harmonics) are judged under the cautious model: over one
+/// column (temperature, encoder harmonics, amplitude) are judged under the cautious model: over one
 /// run a drift, a random walk and flicker look alike, and in a sequential run the low
 /// harmonics of the angle are the slow wander of time. Drift and jump are judged under the
 /// random walk a drift would leave (`drift`): a random walk wanders at every scale, a drift
-/// does not. The amplitude and the 2 psi harmonic of a nonlinearity are judged under the main
-/// model: the cautious one leaves them no power (a scale factor is named only when nothing
-/// else is left). Local tests (outliers,
+/// does not. The 2 psi harmonic of a nonlinearity is judged under the main model. Local tests (outliers,
 /// settling) use the main model.
 pub struct State<'a> {
     pub data: &'a Data,

@@ -152,10 +152,14 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         alpha: opt.alpha * (1.0 - UNEXPLAINED_SHARE),
     }
     .run(start)?;
-    let (final_, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
+    let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
+    let final_ = noise_robust(averaged, &sel.model, &noise.cautious);
     let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
-    if let Some(s) = unexplained::test(&d, &sel.model, &noise.cautious, opt.alpha * UNEXPLAINED_SHARE) {
+    // Structure is unexplained only when no plausible noise model explains it either.
+    let structure =
+        [w, &noise.cautious].map(|w| unexplained::test(&d, &sel.model.rewhiten(w), w, opt.alpha * UNEXPLAINED_SHARE));
+    if let [Some(_), Some(s)] = structure {
         findings.push(Finding {
             effect: Kind::Unexplained,
             parameters: s.parameters,
@@ -190,6 +194,20 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         models,
         points,
     })
+}
+
+/// The averaged result with a sigma that holds under every noise model the recording allows:
+/// the larger of its own and the selected model's under the most coloured plausible noise,
+/// and the shift between the two azimuths added.
+fn noise_robust(averaged: Summary, selected: &Model, cautious: &Whitener) -> Summary {
+    let Some(c) = selected.rewhiten(cautious).fit().map(|f| summary(&f)) else {
+        return averaged;
+    };
+    let shift = nf_model::angle::wrap_180(c.azimuth_deg - averaged.azimuth_deg) * 3600.0;
+    Summary {
+        sigma_arcsec: averaged.sigma_arcsec.max(c.sigma_arcsec).hypot(shift),
+        ..averaged
+    }
 }
 
 fn base_residuals(d: &Data, ls: &crate::linfit::Ls) -> Vec<f64> {

@@ -24,8 +24,8 @@ use nf_model::noise::NoiseModel;
 const KEEP: f64 = 0.1;
 
 /// Log-likelihood below the best that a noise model may lie and still count as plausible:
-/// half the 95 % point of a chi-square of 1 dof.
-const PLAUSIBLE: f64 = 1.92;
+/// half the 68 % point of a chi-square of 1 dof (one sigma).
+const PLAUSIBLE: f64 = 0.5;
 
 /// A property of the noise the likelihood needs.
 pub struct NoiseTerm {
@@ -37,7 +37,7 @@ pub struct NoiseTerm {
 pub struct Noise {
     pub model: NoiseModel,
     pub whitener: Whitener,
-    /// The most coloured model within the likelihood's 95 % region, and its whitening.
+    /// The most coloured model within one sigma of the likelihood's best, and its whitening.
     pub cautious_model: NoiseModel,
     pub cautious: Whitener,
     /// The most likely model with a drift in the design: for the tests of drift and jump.
@@ -121,8 +121,9 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             .map(|c| c.loglik)
             .fold(f64::MIN, f64::max);
         let lr = 2.0 * (e.best.loglik - without).max(0.0);
-        // The term's size is on the boundary under the null: half a chi-square of 1 dof.
-        let p = 0.5 * chi2_sf(lr, 1.0);
+        // A chi-square of 1 dof, not the boundary's half: the best is refined between grid
+        // points and the model without the term is not, which inflates the ratio.
+        let p = chi2_sf(lr, 1.0);
         if value > 0.0 && p < alpha / 2.0 {
             terms.push(NoiseTerm {
                 kind,
@@ -177,7 +178,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     })
 }
 
-/// The model within the likelihood's 95 % region that wanders most over the run.
+/// The model within one sigma of the likelihood's best that wanders most over the run.
 fn most_coloured(d: &Data, e: &noise_est::Estimate, fallback: NoiseModel) -> NoiseModel {
     let span_h = 2.0 * d.half_span_s / 3600.0;
     let wander = |m: &NoiseModel| m.bias_instability_dph.powi(2) + m.rrw_dph_rth.powi(2) * span_h / 3.0;

@@ -23,7 +23,7 @@ impl Effect for Nonlinearity {
             .iter()
             .map(|g| (2.0 * (g + psi)).to_radians().cos())
             .collect();
-        s.cautious
+        s.main
             .nested(
                 Kind::Nonlinearity,
                 vec![col],

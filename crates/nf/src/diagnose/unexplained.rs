@@ -19,10 +19,10 @@ pub struct Structure {
     pub location: String,
 }
 
-/// The residual structure of `model` whitened by `w` (the most coloured plausible noise), if
-/// any is significant at `alpha`.
+/// The residual structure of `model` whitened by `w`, the estimated noise, if any is
+/// significant at `alpha`. (Whitening by a more coloured model than the noise has would make
+/// structure of its own.)
 pub fn test(d: &Data, model: &Model, w: &Whitener, alpha: f64) -> Option<Structure> {
-    let model = &model.rewhiten(w);
     let ls = &model.fit()?;
     let e = &ls.resid;
     let n = e.len();
