@@ -174,3 +174,37 @@ fn heavy_tails_are_not_a_string_of_outliers_and_a_burst_is_an_outlier() {
     assert!(burst_found >= 27, "a 12-sigma burst found in {burst_found} of 30");
     assert!(burst_tails <= 4, "a burst taken for heavy tails in {burst_tails} of 30");
 }
+
+/// RMS of error / reported sigma of the final azimuth and of the selected model alone.
+fn rms_z(noise: NoiseModel, runs: u64) -> (f64, f64) {
+    let (mut fin, mut sel) = (0.0, 0.0);
+    for seed in 0..runs {
+        let d = diagnose(&clean(noise, 900 + seed), &Options::default()).unwrap();
+        let truth = (((900 + seed) as f64) * 47.0) % 360.0;
+        let z = |s: &nf::diagnose::Summary| nf_model::angle::wrap_180(s.azimuth_deg - truth) * 3600.0 / s.sigma_arcsec;
+        fin += z(&d.final_).powi(2);
+        sel += z(&d.selected).powi(2);
+    }
+    ((fin / runs as f64).sqrt(), (sel / runs as f64).sqrt())
+}
+
+#[test]
+fn the_final_sigma_carries_the_noise_models_uncertainty() {
+    let (fin, sel) = rms_z(flicker(3.0), 40);
+    let (white_fin, _) = rms_z(white(), 40);
+    println!("flicker: RMS error/sigma final {fin:.2}, selected model alone {sel:.2}; white: final {white_fin:.2}");
+    // One estimate of the noise is too sure of itself; averaging over the models the
+    // recording allows is not, and on white noise it stays within a factor two of exact.
+    assert!(
+        sel > 1.3,
+        "the selected model's sigma is honest already ({sel:.2}): nothing to test"
+    );
+    assert!(
+        (0.7..1.3).contains(&fin),
+        "final RMS error/sigma {fin:.2} under flicker"
+    );
+    assert!(
+        (0.5..1.2).contains(&white_fin),
+        "final RMS error/sigma {white_fin:.2} on white noise"
+    );
+}

@@ -173,7 +173,8 @@ fn diagnosis_json(d: &Diagnosis) -> Value {
         "alpha": d.alpha,
         "noise_model": {"arw_deg_rth": m.arw_deg_rth, "bias_instability_dph": m.bias_instability_dph,
                         "rrw_dph_rth": m.rrw_dph_rth, "source": d.noise_source,
-                        "cautious": {"bias_instability_dph": d.cautious_model.bias_instability_dph, "rrw_dph_rth": d.cautious_model.rrw_dph_rth}},
+                        "cautious": {"bias_instability_dph": d.cautious_model.bias_instability_dph, "rrw_dph_rth": d.cautious_model.rrw_dph_rth},
+                        "with_drift": {"bias_instability_dph": d.drift_model.bias_instability_dph, "rrw_dph_rth": d.drift_model.rrw_dph_rth}},
         "baseline": summary_json(&d.baseline),
         "findings": f,
         "selected": summary_json(&d.selected),
@@ -193,11 +194,16 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         "     N {:.3e} deg/rt(h), B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
         m.arw_deg_rth, m.bias_instability_dph, m.rrw_dph_rth
     )?;
-    let c = &d.cautious_model;
+    let (c, r) = (&d.cautious_model, &d.drift_model);
     writeln!(
         out,
-        "     drift, jump and amplitude judged under the most coloured plausible model: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
+        "     temperature, encoder harmonics, amplitude and the final sigma judged under the most coloured plausible model: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
         c.bias_instability_dph, c.rrw_dph_rth
+    )?;
+    writeln!(
+        out,
+        "     drift and jump judged under the model estimated with a drift: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
+        r.bias_instability_dph, r.rrw_dph_rth
     )?;
     writeln!(
         out,

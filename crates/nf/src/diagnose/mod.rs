@@ -153,7 +153,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     }
     .run(start)?;
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
-    let final_ = noise_robust(averaged, &sel.model, &noise.cautious);
+    let final_ = noise_averaged(averaged, &sel.model, &noise.plausible);
     let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either.
@@ -196,16 +196,32 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     })
 }
 
-/// The averaged result with a sigma that holds under every noise model the recording allows:
-/// the larger of its own and the selected model's under the most coloured plausible noise,
-/// and the shift between the two azimuths added.
-fn noise_robust(averaged: Summary, selected: &Model, cautious: &Whitener) -> Summary {
-    let Some(c) = selected.rewhiten(cautious).fit().map(|f| summary(&f)) else {
+/// The averaged result with the noise model's own uncertainty added: the selected model is
+/// fitted under every noise model the recording allows and averaged by their likelihoods
+/// (as `nf fit` does), and the spread the model averaging added is kept on top.
+fn noise_averaged(averaged: Summary, selected: &Model, plausible: &[(f64, Whitener)]) -> Summary {
+    let fits: Vec<(f64, Summary)> = plausible
+        .iter()
+        .filter_map(|(w, wh)| Some((*w, summary(&selected.rewhiten(wh).fit()?))))
+        .collect();
+    let Some(main) = selected.fit().map(|f| summary(&f)) else {
         return averaged;
     };
-    let shift = nf_model::angle::wrap_180(c.azimuth_deg - averaged.azimuth_deg) * 3600.0;
+    let total: f64 = fits.iter().map(|f| f.0).sum();
+    if fits.is_empty() || total <= 0.0 {
+        return averaged;
+    }
+    let shift = |s: &Summary| nf_model::angle::wrap_180(s.azimuth_deg - main.azimuth_deg) * 3600.0;
+    let mean = fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total;
+    let var = fits
+        .iter()
+        .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
+        .sum::<f64>()
+        / total;
+    let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
     Summary {
-        sigma_arcsec: averaged.sigma_arcsec.max(c.sigma_arcsec).hypot(shift),
+        azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + mean / 3600.0),
+        sigma_arcsec: (var + model_spread).sqrt(),
         ..averaged
     }
 }

@@ -43,6 +43,9 @@ pub struct Noise {
     /// The most likely model with a drift in the design: for the tests of drift and jump.
     pub drift_model: NoiseModel,
     pub drift: Whitener,
+    /// The noise models the recording allows, with their likelihood weights (summing to 1),
+    /// for the final sigma.
+    pub plausible: Vec<(f64, Whitener)>,
     pub source: String,
     pub terms: Vec<NoiseTerm>,
     /// The columns the noise was estimated under, for the test of its tails.
@@ -89,6 +92,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             cautious: whitener_of(m)?,
             drift_model: *m,
             drift: whitener_of(m)?,
+            plausible: vec![(1.0, whitener_of(m)?)],
             source: format!("given: {label}"),
             terms: Vec::new(),
             design: cols,
@@ -156,7 +160,12 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         quarters: &quarters,
     })
     .map_or(cautious_model, |e| e.best.model);
+    let plausible = plausible(&e)
+        .into_iter()
+        .map(|(w, m)| Ok((w, whitener_of(&m)?)))
+        .collect::<Result<Vec<_>, String>>()?;
     Ok(Noise {
+        plausible,
         drift_model,
         drift: whitener_of(&drift_model)?,
         whitener: whitener_of(&model)?,
@@ -176,6 +185,18 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         terms,
         design: cols,
     })
+}
+
+/// The grid's models that carry at least 1 % of the best one's likelihood, weighted by it.
+fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
+    let top = e.best.loglik;
+    let kept: Vec<(f64, NoiseModel)> = std::iter::once(&e.best)
+        .chain(&e.grid)
+        .map(|c| ((c.loglik - top).exp(), c.model))
+        .filter(|(w, _)| *w >= 0.01)
+        .collect();
+    let total: f64 = kept.iter().map(|k| k.0).sum();
+    kept.into_iter().map(|(w, m)| (w / total, m)).collect()
 }
 
 /// The model within one sigma of the likelihood's best that wanders most over the run.
