@@ -2,7 +2,8 @@
 //! shared shaft, a BiSS-C encoder frame with its CRC-6, inclinometer answers in their line
 //! protocol, gyro ADC counts of the Earth rate at the shaft's angle plus deterministic noise, a
 //! thermometer and a virtual clock. No allocation and no `std`, so the same file runs on the
-//! emulated MCU and, through `#[path]`, in `tests/qemu.rs` on the host.
+//! emulated MCU and, through `#[path]`, in `tests/qemu.rs` on the host. The maths goes through
+//! `Float`, which `core` lacks and `std` has, so it reads the same in both.
 
 use core::cell::RefCell;
 use core::convert::Infallible;
@@ -58,15 +59,15 @@ impl World {
     /// Elevations of the inclinometer's X axis (the gyro's) and Y axis (90 deg on).
     fn tilt_deg(&self) -> (f64, f64) {
         let d = (self.gamma_deg() - TILT_TOWARDS_DEG).to_radians();
-        (TILT_DEG * d.cos(), -TILT_DEG * d.sin())
+        (TILT_DEG * Float::cos(d), -TILT_DEG * Float::sin(d))
     }
 
     /// The Earth rate on the gyro axis: horizontal part by the azimuth, vertical part by the
     /// axis' elevation.
     fn rate_dph(&mut self) -> f64 {
         let lat = (RUN.latitude_deg as f64).to_radians();
-        let horizontal = EARTH_RATE_DPH * lat.cos() * (self.gamma_deg() + PSI_DEG).to_radians().cos();
-        let vertical = EARTH_RATE_DPH * lat.sin() * self.tilt_deg().0.to_radians().sin();
+        let horizontal = EARTH_RATE_DPH * Float::cos(lat) * Float::cos((self.gamma_deg() + PSI_DEG).to_radians());
+        let vertical = EARTH_RATE_DPH * Float::sin(lat) * Float::sin(self.tilt_deg().0.to_radians());
         horizontal + vertical + BIAS_DPH + NOISE_DPH * self.rng.gauss()
     }
 }
@@ -252,7 +253,7 @@ impl GyroSource for FakeGyro<'_> {
         let mut w = self.0.borrow_mut();
         w.now_us += 1_000_000 / RUN.sample_rate_hz as u64;
         let rate = w.rate_dph();
-        Ok(Calibration::DEFAULT.counts(rate).round() as i32)
+        Ok(Float::round(Calibration::DEFAULT.counts(rate)) as i32)
     }
 }
 

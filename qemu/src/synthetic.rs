@@ -18,11 +18,11 @@ const SEED: u64 = 10;
 /// The `N` dwell means, 2.3 s apart.
 pub fn observations<F: Float>() -> [Obs<F>; N] {
     let mut rng = Rng::new(SEED);
-    let amplitude = EARTH_RATE_DPH * LATITUDE_DEG.to_radians().cos();
+    let amplitude = EARTH_RATE_DPH * Float::cos(LATITUDE_DEG.to_radians());
     let f = |x: f64| F::from(x).expect("finite values convert");
     core::array::from_fn(|i| {
         let gamma_deg = i as f64 * 360.0 / N as f64;
-        let rate = amplitude * (gamma_deg + PSI_DEG).to_radians().cos() + BIAS_DPH + NOISE_DPH * rng.gauss();
+        let rate = amplitude * Float::cos((gamma_deg + PSI_DEG).to_radians()) + BIAS_DPH + NOISE_DPH * rng.gauss();
         Obs {
             gamma_deg: f(gamma_deg),
             t_s: f(i as f64 * 2.3),
