@@ -1,6 +1,7 @@
 //! The model's fit and the run sequencer on the emulated MCU (QEMU `mps2-an386`, a Cortex-M4F)
 //! against the same on the host: `qemu/` is built for thumbv7em and run under
-//! `qemu-system-arm`; its `fit` and `run` lines must agree with the host's to 0.1 arcsec.
+//! `qemu-system-arm`; its `fit` and `run` lines must agree with the host's to 0.1 arcsec, and
+//! the fit of n = 180 must stay within its instruction budget.
 //! QEMU is required where `NF_REQUIRE_QEMU` is set (`.ci/run` installs it); elsewhere the test
 //! says why it did nothing and passes.
 
@@ -16,6 +17,8 @@ mod synthetic;
 
 /// Agreement asked for between the MCU and the host, arcsec.
 const TOLERANCE_ARCSEC: f64 = 0.1;
+/// The budget for the n = 180 fit on the Cortex-M4F.
+const FIT_BUDGET_INSTRUCTIONS: f64 = 300_000.0;
 
 fn qemu_found() -> bool {
     Command::new("qemu-system-arm")
@@ -96,7 +99,10 @@ fn fit_and_run_on_the_emulated_mcu_match_the_host() {
     assert!(d_psi.abs() <= TOLERANCE_ARCSEC && d_sigma.abs() <= TOLERANCE_ARCSEC);
     let instructions = number(&fit, "instructions");
     println!("fit of n = {}: {instructions} instructions", synthetic::N);
-    assert!(instructions > 0.0, "{instructions}");
+    assert!(
+        instructions > 0.0 && instructions < FIT_BUDGET_INSTRUCTIONS,
+        "{instructions} instructions, budget {FIT_BUDGET_INSTRUCTIONS}"
+    );
 
     // The same run, on the same fake instrument, on the host.
     let run = fields(&stdout, "run");
