@@ -2,8 +2,8 @@
 //! shared shaft, a BiSS-C encoder frame with its CRC-6, inclinometer answers in their line
 //! protocol, gyro ADC counts of the Earth rate at the shaft's angle plus deterministic noise, a
 //! thermometer and a virtual clock. No allocation and no `std`, so the same file runs on the
-//! emulated MCU and, through `#[path]`, in `tests/qemu.rs` on the host. The maths goes through
-//! `Float`, which `core` lacks and `std` has, so it reads the same in both.
+//! emulated MCU and, through `#[path]`, in `tests/qemu.rs` on the host. The maths is called
+//! through `Float` because `core` has no `cos` of its own: the same call compiles in both.
 
 use core::cell::RefCell;
 use core::convert::Infallible;
@@ -18,14 +18,14 @@ use nf_model::rng::Rng;
 use nf_model::{EARTH_RATE_DPH, Float};
 
 /// The run: 24 positions of 0.2 s at 1 kHz, tilt-corrected, at the paper's latitude.
-pub const RUN: RunConfig = RunConfig {
+const RUN: RunConfig = RunConfig {
     positions: 24,
     dwell_ms: 200,
     settle_ms: 100,
     ..RunConfig::DEFAULT
 };
 /// The azimuth the gyro sees.
-pub const PSI_DEG: f64 = 65.5;
+const PSI_DEG: f64 = 65.5;
 const STEPS_PER_REV: i64 = 32_000;
 const ENCODER_BITS: u8 = 23;
 const BIAS_DPH: f64 = -0.4;
