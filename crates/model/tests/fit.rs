@@ -318,3 +318,20 @@ fn zero_degrees_of_freedom_leave_the_sigmas_undefined() {
             .is_nan()
     );
 }
+
+#[test]
+fn f32_fit_of_rows_whose_squares_are_subnormal() {
+    // A weight of 1e-39 leaves the weighted rows near 3e-20, whose squares are subnormal: the
+    // rotations must rescale (the plain sum of squares gave NaN here).
+    let obs: Vec<Obs<f32>> = (0..360)
+        .map(|i| {
+            let g = i as f32;
+            Obs {
+                weight: 1e-39,
+                ..Obs::new(g, 10.0 * (g + 40.0).to_radians().cos())
+            }
+        })
+        .collect();
+    let r = AzimuthFit::fit_all(FitConfig::default(), &obs).unwrap();
+    assert!((r.psi_deg - 40.0).abs() < 1e-3, "{}", r.psi_deg);
+}
