@@ -6,8 +6,9 @@
 //! whitened by it, so the false-alarm rate holds on coloured noise; heavy tails are measured
 //! (`tails`) and the outlier test judged under them. Each effect of the catalogue is one type
 //! implementing [`Effect`], in a file of its own. The selection (`select`) names effects one
-//! at a time; the result averages the models it met (`averaging`); what remains is tested for
-//! structure no effect explains (`unexplained`).
+//! at a time; the result averages the models it met (`averaging`) and, for its sigma, the
+//! noise models the recording allows; what remains is tested for structure no effect
+//! explains (`unexplained`).
 
 mod averaging;
 mod data;
