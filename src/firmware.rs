@@ -42,6 +42,8 @@ type M = CriticalSectionRawMutex;
 
 /// Samples from the ADC task to the sequencer: 0.25 s of buffer at 1 kHz.
 static SAMPLES: Channel<M, Result<i32, AdcError>, 256> = Channel::new();
+/// Samples the full queue turned away.
+static MISSED: AtomicU32 = AtomicU32::new(0);
 /// Lines to the host.
 static TX: Channel<M, Line, 8> = Channel::new();
 static START: Signal<M, ()> = Signal::new();
@@ -81,6 +83,10 @@ impl GyroSource for SampleQueue {
     fn discard_pending(&mut self) {
         while SAMPLES.try_receive().is_ok() {}
     }
+
+    fn take_missed(&mut self) -> u32 {
+        MISSED.swap(0, Ordering::Relaxed)
+    }
 }
 
 /// Recording lines go to the host link, and to the defmt log for `nf log`.
@@ -109,8 +115,11 @@ async fn gyro_task(mut adc: Ads1256<AdcSpi, ExtiInput<'static, Async>>) {
     }
     loop {
         let s = adc.next_sample().await;
-        // A full queue means nobody is dwelling: the sample is not wanted.
-        let _ = SAMPLES.try_send(s);
+        // A full queue between dwells means nobody wants the sample; within a dwell it is a
+        // loss, which the dwell reports (it resets the count when it starts).
+        if SAMPLES.try_send(s).is_err() {
+            MISSED.fetch_add(1, Ordering::Relaxed);
+        }
     }
 }
 

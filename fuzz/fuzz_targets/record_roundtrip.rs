@@ -58,6 +58,7 @@ fn record(u: &mut Unstructured, index: u16) -> Result<Record> {
         tilt_x_deg: reading(u, 10.0)?,
         tilt_y_deg: reading(u, 10.0)?,
         quarters_dph: [quarter(u)?, quarter(u)?, quarter(u)?, quarter(u)?],
+        missed: u.arbitrary()?,
     })
 }
 

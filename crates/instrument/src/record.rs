@@ -7,8 +7,7 @@ use core::fmt::{self, Write};
 pub const MAX_LINE: usize = 192;
 
 /// The column header, in the order [`Record::write`] writes the values.
-pub const HEADER: &str =
-    "index,t_s,encoder_deg,rate_dph,rate_sd_dph,samples,temp_c,tilt_x_deg,tilt_y_deg,q1_dph,q2_dph,q3_dph,q4_dph";
+pub const HEADER: &str = "index,t_s,encoder_deg,rate_dph,rate_sd_dph,samples,temp_c,tilt_x_deg,tilt_y_deg,q1_dph,q2_dph,q3_dph,q4_dph,missed";
 
 /// One position of a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,6 +22,9 @@ pub struct Record {
     pub tilt_x_deg: f32,
     pub tilt_y_deg: f32,
     pub quarters_dph: [f64; 4],
+    /// Samples of the dwell the gyro source lost (not in `samples`); readers that do not
+    /// know the column ignore it.
+    pub missed: u32,
 }
 
 /// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite, or
@@ -75,7 +77,7 @@ impl Record {
             w.write_char(',')?;
             write_fixed(w, q, 6)?;
         }
-        Ok(())
+        write!(w, ",{}", self.missed)
     }
 
     pub fn line(&self) -> heapless::String<MAX_LINE> {
@@ -144,6 +146,7 @@ mod tests {
                 tilt_x_deg: 0.0,
                 tilt_y_deg: 0.0,
                 quarters_dph: [0.0; 4],
+                missed: 0,
             };
             assert!(r.line().contains(want), "{deg}: {}", r.line());
         }
@@ -164,6 +167,7 @@ mod tests {
             tilt_x_deg: 0.0,
             tilt_y_deg: 0.0,
             quarters_dph: [0.0; 4],
+            missed: 0,
         };
         assert!(r.line().starts_with("0,1.000,0.0000000,"), "{}", r.line());
         r.encoder_deg = 359.99999994;
@@ -183,9 +187,11 @@ mod tests {
             tilt_x_deg: 0.001,
             tilt_y_deg: -0.002,
             quarters_dph: [1.0, 2.0, 3.0, 4.0],
+            missed: 12,
         };
         let l = r.line();
         assert_eq!(l.split(',').count(), HEADER.split(',').count());
+        assert!(l.ends_with(",4.000000,12"), "{l}");
         assert!(
             l.starts_with("3,7.100,15.0000000,-4.250000,0.100000,2000,35.500,0.00100,-0.00200,1.000000"),
             "{l}"

@@ -25,6 +25,11 @@ pub trait GyroSource {
     async fn next_sample(&mut self) -> Result<i32, AdcError>;
     /// Drops samples buffered before now (taken while the shaft moved or settled).
     fn discard_pending(&mut self) {}
+    /// Samples lost since the last call (a full queue, a conversion served too late), so that
+    /// a dwell can say how many of its samples it did not average.
+    fn take_missed(&mut self) -> u32 {
+        0
+    }
 }
 
 impl<SPI: embedded_hal_async::spi::SpiDevice, DRDY: embedded_hal_async::digital::Wait> GyroSource
@@ -208,6 +213,8 @@ pub struct RunReport {
     pub result: Result<(), RunError>,
     /// Dwells measured and emitted.
     pub positions: u16,
+    /// Gyro samples lost during the dwells (each dwell's are in its `missed` column).
+    pub missed_samples: u32,
     pub levelling: Option<Levelling>,
     /// The fit of the positions measured (all of them when the run finished).
     pub azimuth: Option<Azimuth>,
@@ -391,6 +398,8 @@ where
         let (mut enc_sum, mut enc_n) = (0i64, 0i64);
         let (mut tilt, mut temp) = ((f32::NAN, f32::NAN), f32::NAN);
         self.hw.gyro.discard_pending();
+        // Losses before the dwell are not the dwell's.
+        let _ = self.hw.gyro.take_missed();
         let start = self.hw.clock.now_us();
         for i in 0..expected {
             let s = with_timeout(&mut self.hw.clock, 10 * period_us + 10_000, self.hw.gyro.next_sample()).await;
@@ -418,6 +427,10 @@ where
             }
         }
         let t_mid = (start + self.hw.clock.now_us()) / 2 - t0;
+        let missed = self.hw.gyro.take_missed();
+        if missed > 0 {
+            warn!("dwell {}: {} samples missed (the queue overran)", index, missed);
+        }
         let st = acc.stats();
         let cal = cfg.calibration;
         let angle = (target as f64 + enc_sum as f64 / enc_n as f64) * 360.0 / self.per_turn as f64;
@@ -432,6 +445,7 @@ where
             tilt_x_deg: tilt.0,
             tilt_y_deg: tilt.1,
             quarters_dph: st.quarters.map(|q| cal.rate_dph(q)),
+            missed,
         })
     }
 
@@ -515,6 +529,7 @@ where
     let mut report = RunReport {
         result: Ok(()),
         positions: 0,
+        missed_samples: 0,
         levelling: None,
         azimuth: None,
         under_noise: None,
@@ -574,6 +589,7 @@ where
             let rec = ctx.dwell(k, target, t0).await?;
             ctx.sink.line(&rec.line()).await;
             report.positions = k + 1;
+            report.missed_samples += rec.missed;
             let obs = Obs {
                 gamma_deg: rec.encoder_deg as f32,
                 t_s: rec.t_s as f32,
