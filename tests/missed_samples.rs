@@ -17,7 +17,7 @@ struct Lossy<G> {
 impl<G: GyroSource> GyroSource for Lossy<G> {
     async fn next_sample(&mut self) -> Result<i32, AdcError> {
         self.seen += 1;
-        if self.seen % self.every == 0 {
+        if self.seen.is_multiple_of(self.every) {
             let _ = self.inner.next_sample().await?;
             self.missed += 1;
         }
