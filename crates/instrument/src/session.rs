@@ -154,12 +154,16 @@ impl Session {
         }
     }
 
-    /// `STATUS running|idle`, and the last run: dwells, azimuth, sigma, the target.
+    /// `STATUS running|idle`, and the last run: dwells, gyro samples lost (when any), azimuth,
+    /// sigma, the target.
     pub fn status(&self) -> Reply {
         let mut l = ReplyLine::new();
         let _ = write!(l, "STATUS {}", if self.running { "running" } else { "idle" });
         if let Some(r) = &self.last {
             let _ = write!(l, " last: {} dwells", r.positions);
+            if r.missed_samples > 0 {
+                let _ = write!(l, " missed_samples {}", r.missed_samples);
+            }
             if let Some(a) = r.azimuth {
                 let _ = l.push_str(" psi ");
                 let _ = write_fixed(&mut l, a.psi_deg as f64, 5);
@@ -276,5 +280,26 @@ mod tests {
         bytes.extend_from_slice(b" START\nSTATUS\n");
         assert_eq!(feed(&mut a, &bytes), ["<too long>", "STATUS"]);
         assert_eq!(feed(&mut a, &[0xff, b'\n']), ["<not utf8>"]);
+    }
+
+    #[test]
+    fn status_tells_the_samples_the_last_run_lost() {
+        let mut session = Session::default();
+        let report = |missed| RunReport {
+            result: Ok(()),
+            positions: 8,
+            missed_samples: missed,
+            levelling: None,
+            azimuth: None,
+            under_noise: None,
+            target_reached: false,
+        };
+        session.finished(report(0));
+        assert_eq!(session.status()[0].as_str(), "STATUS idle last: 8 dwells ok");
+        session.finished(report(12));
+        assert_eq!(
+            session.status()[0].as_str(),
+            "STATUS idle last: 8 dwells missed_samples 12 ok"
+        );
     }
 }
