@@ -6,11 +6,14 @@ use crate::board::{self, GyroThermometer};
 use core::cell::{Cell, RefCell};
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use defmt::{error, info, warn};
-use embassy_executor::Spawner;
+use embassy_executor::{InterruptExecutor, Spawner};
 use embassy_stm32::exti::ExtiInput;
 use embassy_stm32::flash::Flash;
 use embassy_stm32::gpio::Output;
+use embassy_stm32::interrupt::{InterruptExt, Priority};
 use embassy_stm32::mode::Async;
+// The PAC's `interrupt`: the handler attribute and the vector names it checks.
+use embassy_stm32::pac::interrupt;
 use embassy_stm32::peripherals::IWDG;
 use embassy_stm32::spi::{self, Spi};
 use embassy_stm32::usart::{RingBufferedUartRx, UartTx};
@@ -38,6 +41,17 @@ use {defmt_rtt as _, panic_probe as _};
 defmt::timestamp!("{=u64:us}", Instant::now().as_micros());
 
 type Line = String<MAX_LINE>;
+
+/// The gyro ADC's task runs here, in an interrupt above thread mode: a conversion is read when
+/// DRDY falls, whatever the run, the host link or the flash are doing.
+static HIGH: InterruptExecutor = InterruptExecutor::new();
+
+/// UART5 is unused on this board: its vector drives the high-priority executor.
+#[interrupt]
+unsafe fn UART5() {
+    // Safety: called only from this handler, after `HIGH.start` in `main`.
+    unsafe { HIGH.on_interrupt() }
+}
 type M = CriticalSectionRawMutex;
 
 /// Samples from the ADC task to the sequencer: 0.25 s of buffer at 1 kHz.
@@ -291,7 +305,9 @@ async fn main(spawner: Spawner) {
         thermometer: b.thermometer,
         clock: EmbassyClock,
     };
-    spawner.spawn(gyro_task(Ads1256::new(adc_dev, b.adc_drdy)).unwrap());
+    interrupt::UART5.set_priority(Priority::P6);
+    let high = HIGH.start(interrupt::UART5);
+    high.spawn(gyro_task(Ads1256::new(adc_dev, b.adc_drdy)).unwrap());
     spawner.spawn(link_tx_task(host_tx).unwrap());
     spawner.spawn(link_rx_task(host_rx).unwrap());
     spawner.spawn(sequencer_task(hw).unwrap());
