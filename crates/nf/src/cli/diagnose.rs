@@ -13,6 +13,9 @@ use nf_model::noise::NoiseModel;
 use serde_json::{Value, json};
 use std::io::Write;
 
+/// Positions beyond which a diagnosis takes over a second on this machine.
+const SLOW_POSITIONS: usize = 150;
+
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
     /// The recording (not needed with --evaluate).
@@ -62,7 +65,19 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             NoiseChoice::Estimate
         },
     };
-    let d = diagnose(&rec, &opt).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
+    // The noise estimate factors an n x n covariance per model tried: past this many positions
+    // a diagnosis takes more than a second, and a spinner says so (on a terminal only).
+    let spinner = (rec.rows.len() > SLOW_POSITIONS).then(|| {
+        let s = indicatif::ProgressBar::new_spinner();
+        s.set_message(format!("diagnosing {} positions: estimating the noise", rec.rows.len()));
+        s.enable_steady_tick(std::time::Duration::from_millis(120));
+        s
+    });
+    let d = diagnose(&rec, &opt);
+    if let Some(s) = spinner {
+        s.finish_and_clear();
+    }
+    let d = d.map_err(|e| Fail(format!("{path}: {e}"), 1))?;
     let panels = diagnose_panels(&d);
     if let Some(p) = &a.plot {
         plot::write(p, &panels)?;
