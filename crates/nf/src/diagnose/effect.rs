@@ -79,19 +79,18 @@ impl Frame<'_> {
     }
 }
 
-/// What a test sees: the recording, the model so far fitted under the noise model (`main`)
-/// and under the most coloured noise model the recording allows (`cautious`). Tests of a
-/// column (temperature, encoder harmonics, amplitude) are judged under the cautious model: over one
-/// run a drift, a random walk and flicker look alike, and in a sequential run the low
-/// harmonics of the angle are the slow wander of time. Drift and jump are judged under the
-/// random walk a drift would leave (`drift`): a random walk wanders at every scale, a drift
-/// does not. The 2 psi harmonic of a nonlinearity is judged under the main model. Local tests (outliers,
-/// settling) use the main model.
+/// What a test sees: the recording and the model so far, fitted under three noise models.
+/// - `main`, the estimate: local tests (outliers, settling) and the 2 psi harmonic of a
+///   nonlinearity.
+/// - `cautious`, the most coloured model the recording allows: temperature, encoder harmonics
+///   and the amplitude, because in a sweep the low harmonics of the angle are the slow wander
+///   of time.
+/// - `drift`, the estimate made with a drift in the design: drift and jump, because a random
+///   walk wanders at every scale and a drift does not.
 pub struct State<'a> {
     pub data: &'a Data,
     pub main: &'a Frame<'a>,
     pub cautious: &'a Frame<'a>,
-    /// As `cautious`, its noise estimated with a drift in the design: for drift and jump.
     pub drift: &'a Frame<'a>,
     pub summary: Summary,
     pub named: &'a [Kind],
