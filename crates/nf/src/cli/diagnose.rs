@@ -212,7 +212,7 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     let (c, r) = (&d.cautious_model, &d.drift_model);
     writeln!(
         out,
-        "     temperature, encoder harmonics, amplitude and the final sigma judged under the most coloured plausible model: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
+        "     temperature, encoder harmonics and amplitude judged under the most coloured plausible model: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
         c.bias_instability_dph, c.rrw_dph_rth
     )?;
     writeln!(

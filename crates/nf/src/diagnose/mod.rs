@@ -154,12 +154,15 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     }
     .run(start)?;
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
-    let final_ = noise_averaged(averaged, &sel.model, &noise.plausible);
+    let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise.plausible);
     let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either.
-    let structure =
-        [w, &noise.cautious].map(|w| unexplained::test(&d, &sel.model.rewhiten(w), w, opt.alpha * UNEXPLAINED_SHARE));
+    let level = opt.alpha * UNEXPLAINED_SHARE;
+    let structure = [
+        unexplained::test(&d, &sel.model, w, level),
+        unexplained::test(&d, &sel.model.rewhiten(&noise.cautious), &noise.cautious, level),
+    ];
     if let [Some(_), Some(s)] = structure {
         findings.push(Finding {
             effect: Kind::Unexplained,
@@ -200,14 +203,11 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
 /// The averaged result with the noise model's own uncertainty added: the selected model is
 /// fitted under every noise model the recording allows and averaged by their likelihoods
 /// (as `nf fit` does), and the spread the model averaging added is kept on top.
-fn noise_averaged(averaged: Summary, selected: &Model, plausible: &[(f64, Whitener)]) -> Summary {
+fn noise_averaged(averaged: Summary, selected: &Model, main: Summary, plausible: &[(f64, Whitener)]) -> Summary {
     let fits: Vec<(f64, Summary)> = plausible
         .iter()
         .filter_map(|(w, wh)| Some((*w, summary(&selected.rewhiten(wh).fit()?))))
         .collect();
-    let Some(main) = selected.fit().map(|f| summary(&f)) else {
-        return averaged;
-    };
     let total: f64 = fits.iter().map(|f| f.0).sum();
     if fits.is_empty() || total <= 0.0 {
         return averaged;

@@ -85,14 +85,15 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             .ok_or_else(|| "the noise model gives no usable covariance".to_string())
     };
     if let NoiseChoice::Given(m, label) = choice {
+        let given = whitener_of(m)?;
         return Ok(Noise {
             model: *m,
-            whitener: whitener_of(m)?,
+            whitener: given.clone(),
             cautious_model: *m,
-            cautious: whitener_of(m)?,
+            cautious: given.clone(),
             drift_model: *m,
-            drift: whitener_of(m)?,
-            plausible: vec![(1.0, whitener_of(m)?)],
+            drift: given.clone(),
+            plausible: vec![(1.0, given)],
             source: format!("given: {label}"),
             terms: Vec::new(),
             design: cols,

@@ -4,6 +4,7 @@
 
 use crate::gls::Cov;
 
+#[derive(Clone)]
 pub struct Whitener {
     /// `None`: white noise, the identity.
     cov: Option<Cov>,
