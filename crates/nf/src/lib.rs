@@ -8,6 +8,7 @@ pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;
 pub mod gls;
+pub mod instrument_file;
 pub(crate) mod linfit;
 pub mod logparse;
 pub mod noise_est;

@@ -3,86 +3,93 @@
 use super::noise_args::NoiseArgs;
 use super::{Fail, note, write_out};
 use crate::range::{MAX_LATITUDE_DEG, above, real};
-use nf_instrument::run::{RunConfig, TiltPolicy};
+use crate::instrument_file::{EncoderError, InstrumentFile, Noise, Site};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
-use nf_twin::{Recorder, TwinConfig, simulate};
+use nf_twin::{Recorder, simulate};
 use serde_json::json;
 
 #[derive(clap::Args)]
 pub struct SimArgs {
+    /// The instrument and its run from an instrument file (docs/instrument-file.md) instead
+    /// of the flags below; --seed still applies.
+    #[arg(long)]
+    config: Option<String>,
+    /// Write the instrument file of this simulation (from the flags or --config).
+    #[arg(long)]
+    save_config: Option<String>,
     /// Latitude, deg.
-    #[arg(long, default_value_t = 43.8, allow_hyphen_values = true, value_parser = real(-MAX_LATITUDE_DEG, MAX_LATITUDE_DEG))]
+    #[arg(long, conflicts_with = "config", default_value_t = 43.8, allow_hyphen_values = true, value_parser = real(-MAX_LATITUDE_DEG, MAX_LATITUDE_DEG))]
     lat: f64,
     /// Azimuth psi (Eq. 7), deg.
-    #[arg(long, default_value_t = 65.5378, allow_hyphen_values = true, value_parser = real(-360.0, 360.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 65.5378, allow_hyphen_values = true, value_parser = real(-360.0, 360.0))]
     psi: f64,
     /// Number of positions.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 72, value_parser = clap::value_parser!(u16).range(4..=720))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 72, value_parser = clap::value_parser!(u16).range(4..=720))]
     n: u16,
     /// Visiting order: sequential, forward-back, opposite-pairs, interleaved, or a
     /// comma-separated list of position numbers.
-    #[arg(long, default_value = "sequential")]
+    #[arg(long, conflicts_with = "config", default_value = "sequential")]
     order: String,
     /// End the run when the firmware's running sigma under the gyro's noise model reaches this,
     /// arcsec.
-    #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 36_000.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, value_parser = above(0.0, 36_000.0))]
     target_arcsec: Option<f64>,
     /// Stepper cruise speed, steps/s.
-    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().max_sps as f64, value_parser = real(stepper::Config::default().start_sps as f64, 1e6))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = stepper::Config::default().max_sps as f64, value_parser = real(stepper::Config::default().start_sps as f64, 1e6))]
     max_sps: f64,
     /// Stepper acceleration, steps/s^2.
-    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().accel_sps2 as f64, value_parser = above(0.0, 1e8))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = stepper::Config::default().accel_sps2 as f64, value_parser = above(0.0, 1e8))]
     accel: f64,
     /// Dwell per position, s.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 2.0, value_parser = real(0.01, 600.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 2.0, value_parser = real(0.01, 600.0))]
     dwell: f64,
     /// Settle time after each move, s.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 0.3, value_parser = real(0.0, 60.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.3, value_parser = real(0.0, 60.0))]
     settle: f64,
     /// Gyro white noise of a 2 s dwell mean, deg/h (sets the ARW unless --arw or --noise is given).
-    #[arg(long, allow_hyphen_values = true, default_value_t = 0.005, value_parser = real(0.0, 10.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.005, value_parser = real(0.0, 10.0))]
     gyro_noise: f64,
     /// Gyro bias, deg/h.
-    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(-50.0, 50.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(-50.0, 50.0))]
     bias: f64,
     /// Linear bias drift, deg/h per s.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
     drift: f64,
     /// Shaft tilt, deg.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 0.002, value_parser = real(0.0, 10.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.002, value_parser = real(0.0, 10.0))]
     tilt: f64,
     /// Direction the platform is lowest towards, deg counter-clockwise from gamma = 0.
-    #[arg(long, default_value_t = 140.0, allow_hyphen_values = true, value_parser = real(-360.0, 360.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 140.0, allow_hyphen_values = true, value_parser = real(-360.0, 360.0))]
     tilt_dir: f64,
     /// Gyro axis elevation above the platform (gyro misalignment), deg.
-    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true, value_parser = real(-10.0, 10.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 0.01, allow_hyphen_values = true, value_parser = real(-10.0, 10.0))]
     misalignment: f64,
     /// Gyro scale factor.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 1.0, value_parser = real(0.1, 10.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 1.0, value_parser = real(0.1, 10.0))]
     scale: f64,
     /// Encoder error amplitude, arcsec.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0, value_parser = real(0.0, 3600.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.0, value_parser = real(0.0, 3600.0))]
     encoder_error: f64,
     /// Harmonic of the encoder error (1: eccentricity).
-    #[arg(long, default_value_t = 2, allow_hyphen_values = true)]
+    #[arg(long, conflicts_with = "config", default_value_t = 2, allow_hyphen_values = true, value_parser = clap::value_parser!(u8).range(1..=16))]
     encoder_harmonic: u8,
     /// Gyro temperature at the start, C.
-    #[arg(long, default_value_t = 40.0, allow_hyphen_values = true, value_parser = real(-60.0, 125.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 40.0, allow_hyphen_values = true, value_parser = real(-60.0, 125.0))]
     temp: f64,
     /// Temperature ramp, C per s.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
     temp_ramp: f64,
     /// Bias temperature coefficient, deg/h per C.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-10.0, 10.0))]
+    #[arg(long, conflicts_with = "config", default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-10.0, 10.0))]
     temp_coef: f64,
     /// Inclinometer noise, deg.
-    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0005, value_parser = real(0.0, 1.0))]
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.0005, value_parser = real(0.0, 1.0))]
     incl_noise: f64,
-    /// Random seed.
-    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
-    seed: u64,
+    /// Random seed (default: the instrument file's, or 1).
+    #[arg(long, allow_hyphen_values = true)]
+    seed: Option<u64>,
     /// Further noise terms (the default gyro has white noise only).
     #[command(flatten)]
     noise_terms: NoiseArgs,
@@ -94,46 +101,70 @@ pub struct SimArgs {
     json: bool,
 }
 
-pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
-    let order = Order::parse(&a.order)
-        .and_then(|o| o.check(a.n).map(|()| o))
+/// The instrument file the flags describe.
+fn from_flags(a: &SimArgs) -> Result<InstrumentFile, Fail> {
+    Order::parse(&a.order)
+        .and_then(|o| o.check(a.n))
         .map_err(|e| Fail(format!("--order: {e}"), 2))?;
-    let mut twin = TwinConfig::default();
-    twin.motor.max_sps = a.max_sps as f32;
-    twin.motor.accel_sps2 = a.accel as f32;
-    twin.instrument.latitude_deg = a.lat;
-    twin.instrument.psi_deg = a.psi;
-    twin.instrument.tilt_deg = a.tilt;
-    twin.instrument.tilt_dir_deg = a.tilt_dir;
-    twin.instrument.gyro_elev_deg = a.misalignment;
-    twin.instrument.scale = a.scale;
-    twin.instrument.bias_dph = a.bias;
-    twin.noise = a.noise_terms.apply(NoiseModel::white(a.gyro_noise, 2.0))?;
-    twin.bias_drift_dph_per_s = a.drift;
-    twin.encoder_error = [(a.encoder_harmonic, a.encoder_error, 0.0), (1, 0.0, 0.0)];
-    twin.temp0_c = a.temp;
-    twin.temp_ramp_c_per_s = a.temp_ramp;
-    twin.bias_temp_dph_per_c = a.temp_coef;
-    twin.incl_noise_deg = a.incl_noise;
-    twin.seed = a.seed;
-    let run = RunConfig {
-        positions: a.n,
-        order,
-        noise: twin.noise,
-        target_arcsec: a.target_arcsec.unwrap_or(0.0) as f32,
-        dwell_ms: (a.dwell * 1000.0).round() as u32,
-        settle_ms: (a.settle * 1000.0).round() as u32,
-        latitude_deg: a.lat as f32,
-        tilt_policy: TiltPolicy::Warn,
-        ..RunConfig::default()
+    let mut f = InstrumentFile::default();
+    f.site = Site {
+        latitude_deg: a.lat,
+        azimuth_deg: a.psi,
     };
+    f.gyro.bias_dph = a.bias;
+    f.gyro.scale = a.scale;
+    f.gyro.elevation_deg = a.misalignment;
+    f.noise = Noise::of(&a.noise_terms.apply(NoiseModel::white(a.gyro_noise, 2.0))?);
+    f.drift.linear_dph_per_s = a.drift;
+    f.shaft.tilt_deg = a.tilt;
+    f.shaft.tilt_dir_deg = a.tilt_dir;
+    if a.encoder_error > 0.0 {
+        f.encoder.error = vec![EncoderError {
+            harmonic: a.encoder_harmonic,
+            amplitude_arcsec: a.encoder_error,
+            phase_deg: 0.0,
+        }];
+    }
+    f.temperature.start_c = a.temp;
+    f.temperature.ramp_c_per_s = a.temp_ramp;
+    f.temperature.bias_dph_per_c = a.temp_coef;
+    f.inclinometer.noise_deg = a.incl_noise;
+    f.motor.max_sps = a.max_sps;
+    f.motor.accel_sps2 = a.accel;
+    f.run.positions = a.n;
+    f.run.order = a.order.clone();
+    f.run.dwell_s = a.dwell;
+    f.run.settle_s = a.settle;
+    f.run.target_arcsec = a.target_arcsec;
+    Ok(f)
+}
+
+pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
+    let mut file = match &a.config {
+        Some(path) => {
+            if a.noise_terms.any() {
+                return Err(Fail("--config holds the noise model: give no noise flags with it".into(), 2));
+            }
+            InstrumentFile::read(path).map_err(|e| Fail(e, 2))?
+        }
+        None => from_flags(&a)?,
+    };
+    if let Some(seed) = a.seed {
+        file.seed = seed;
+    }
+    if let Some(p) = &a.save_config {
+        write_out(&Some(p.clone()), &file.write(&[]))?;
+    }
+    let twin = file.twin();
+    let run = file.run_config();
+    let psi = file.site.azimuth_deg;
     let mut rec = Recorder::default();
     let (report, world) = simulate(&twin, &run, &mut rec);
     write_out(&a.out, &rec.text())?;
     let az = report.azimuth;
     if a.json {
         let j = json!({
-            "true_psi_deg": a.psi,
+            "true_psi_deg": psi,
             "positions": report.positions,
             "duration_s": world.t_s(),
             "firmware_azimuth_deg": az.map(|x| x.psi_deg),
@@ -153,7 +184,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             report.positions,
             world.t_s(),
             x.psi_deg,
-            a.psi
+            psi
         );
         if let Some(u) = report.under_noise {
             note!(
