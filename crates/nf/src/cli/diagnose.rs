@@ -1,7 +1,9 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
 use super::noise_args::NoiseArgs;
-use super::{Fail, read_recording};
+use super::{Fail, diagnose_sim, read_recording, write_out};
+use crate::instrument_file::InstrumentFile;
+use crate::sim_compare::{self, SimReport};
 use crate::diagnose::{Diagnosis, Options, Point, Summary, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
 use crate::noise_fit::NoiseChoice;
@@ -43,6 +45,16 @@ pub struct DiagnoseArgs {
     /// The gyro's noise model; without one it is estimated from the recording.
     #[command(flatten)]
     noise: NoiseArgs,
+    /// The instrument file the recording was meant to match (docs/instrument-file.md): it is
+    /// replayed under the recording's plan and compared, and the physics it lacks is named.
+    #[arg(long, conflicts_with = "evaluate")]
+    sim: Option<String>,
+    /// Write the instrument file of --sim with what the recording showed put in.
+    #[arg(long, requires = "sim")]
+    fix: Option<String>,
+    /// Replays of the simulation per comparison.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 20, value_parser = clap::value_parser!(u32).range(3..=1000))]
+    replays: u32,
     /// Run one category of the suite only.
     #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(diagnose_eval::category_names()))]
     category: Option<String>,
@@ -57,6 +69,10 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         .as_deref()
         .ok_or_else(|| Fail("give a recording, or --evaluate".into(), 2))?;
     let rec = read_recording(path)?;
+    let file = match &a.sim {
+        Some(p) => Some(InstrumentFile::read(p).map_err(|e| Fail(e, 2))?),
+        None => None,
+    };
     let opt = Options {
         alpha: a.alpha,
         noise: if a.noise.any() {
@@ -78,7 +94,26 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         s.finish_and_clear();
     }
     let d = d.map_err(|e| Fail(format!("{path}: {e}"), 1))?;
-    let panels = diagnose_panels(&d);
+    let sim = match &file {
+        Some(f) => {
+            let so = sim_compare::Options {
+                replays: a.replays as usize,
+                alpha: a.alpha,
+                diagnose: opt.clone(),
+            };
+            Some(sim_compare::against(&rec, &d, f, &so).map_err(|e| Fail(format!("{path}: {e}"), 1))?)
+        }
+        None => None,
+    };
+    if let (Some(out), Some(s)) = (&a.fix, &sim) {
+        let head = [format!("nf diagnose --fix: {} with what {path} showed", a.sim.as_deref().unwrap_or_default())];
+        let notes: Vec<String> = head.into_iter().chain(s.fixed.changes.iter().cloned()).collect();
+        write_out(&Some(out.clone()), &s.fixed.file.write(&notes))?;
+    }
+    let mut panels = diagnose_panels(&d);
+    if let Some(s) = &sim {
+        panels.extend(diagnose_sim::panels(s));
+    }
     if let Some(p) = &a.plot {
         plot::write(p, &panels)?;
     }
@@ -87,7 +122,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         writeln!(
             out,
             "{}",
-            serde_json::to_string_pretty(&diagnosis_json(&d)).unwrap_or_default()
+            serde_json::to_string_pretty(&with_sim(diagnosis_json(&d), &sim)).unwrap_or_default()
         )?;
         if a.report.is_none() {
             return Ok(());
@@ -96,6 +131,9 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
     // The text goes to standard output, or into the report beside the JSON.
     let mut text: Vec<u8> = Vec::new();
     write_text(&mut text, &d)?;
+    if let Some(s) = &sim {
+        diagnose_sim::text(&mut text, s)?;
+    }
     if let Some(report) = &a.report {
         let names: Vec<&str> = d.findings.iter().map(|f| f.effect.name()).collect();
         let headline = format!(
@@ -162,6 +200,13 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
         ),
         panel("residuals against time", "time (s)", |p| p.t_s),
     ]
+}
+
+fn with_sim(mut j: Value, sim: &Option<SimReport>) -> Value {
+    if let (Some(s), Some(m)) = (sim, j.as_object_mut()) {
+        m.insert("simulation".into(), diagnose_sim::json(s));
+    }
+    j
 }
 
 fn summary_json(s: &Summary) -> Value {

@@ -2,6 +2,7 @@
 
 mod allan;
 mod diagnose;
+mod diagnose_sim;
 mod fit;
 mod log;
 mod noise_args;

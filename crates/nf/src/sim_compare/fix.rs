@@ -1,0 +1,168 @@
+//! The instrument file with what the recording showed put in: each effect the simulation
+//! lacks or sizes differently set to its fitted value, each it alone has taken out, the noise
+//! model replaced by the recording's own where the noise differs, and the Eq. 7 numbers, the
+//! inclinometer and the thermometer moved onto the recording's.
+
+use super::compare::Comparison;
+use super::physics::{Physics, Verdict, middle_s, noise_of, param, settling_offset};
+use super::profile::Quantity;
+use crate::diagnose::{Diagnosis, Kind};
+use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise};
+use crate::recording::Recording;
+
+/// Sets one effect to the recording's fit; what was done, or why not.
+fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64) -> String {
+    let v = |name: &str| param(&p.found, name).map_or(0.0, |x| x.value);
+    let remove = p.verdict == Verdict::OnlyInSimulation;
+    match p.kind {
+        Kind::BiasDrift => {
+            let q = if remove { 0.0 } else { v("rate_dph_per_s2") };
+            file.drift.quadratic_dph_per_s2 = q;
+            // The diagnosis gives the slope at the run's middle.
+            file.drift.linear_dph_per_s = if remove { 0.0 } else { v("rate_dph_per_s") - 2.0 * q * middle_s(rec) };
+        }
+        Kind::BiasJump => {
+            file.jump = (!remove).then(|| Jump {
+                time_s: v("time_s"),
+                size_dph: v("size_dph"),
+            });
+        }
+        Kind::ThermalDrift => file.temperature.bias_dph_per_c = if remove { 0.0 } else { v("dph_per_degc") },
+        Kind::ShaftTilt => {
+            file.shaft.tilt_deg = v("tilt_deg");
+            file.shaft.tilt_dir_deg = v("tilt_dir_deg");
+            file.inclinometer.offset_x_deg = v("offset_x_deg");
+            file.inclinometer.offset_y_deg = v("offset_y_deg");
+        }
+        Kind::EncoderError => {
+            let h = v("harmonic") as u8;
+            file.encoder.error.retain(|e| e.harmonic != h);
+            if !remove {
+                if file.encoder.error.len() >= 2 {
+                    file.encoder.error.remove(0);
+                }
+                // The diagnosis's angle error is the twin's with the opposite sign.
+                file.encoder.error.push(EncoderError {
+                    harmonic: h,
+                    amplitude_arcsec: v("amplitude_arcsec"),
+                    phase_deg: (v("phase_deg") + 180.0 + 180.0).rem_euclid(360.0) - 180.0,
+                });
+            }
+        }
+        Kind::ScaleFactor => file.gyro.scale = if remove { 1.0 } else { v("scale") },
+        Kind::Nonlinearity => file.gyro.nonlinearity_per_dph = if remove { 0.0 } else { v("k2_per_dph") },
+        Kind::SettlingTransient => {
+            // One number cannot give a size and a time constant: the decay keeps the file's
+            // time constant and is sized to the first quarter's offset.
+            let unit = {
+                let mut f = file.clone();
+                f.settling.size_dph = 1.0;
+                settling_offset(&f, dwell_s)
+            };
+            let target = if remove { 0.0 } else { v("first_quarter_offset_dph") };
+            if unit.abs() < 1e-12 {
+                return format!(
+                    "settling_transient: with tau_s = {} and settle_s = {} no decay reaches the dwell; set [settling] by hand",
+                    file.settling.tau_s, file.run.settle_s
+                );
+            }
+            file.settling.size_dph = (target / unit).clamp(-50.0, 50.0);
+        }
+        Kind::Outliers => {
+            let Some(r) = rec.rows.iter().find(|r| r.index as f64 == v("index")) else {
+                return "outliers: the position is not in the recording".into();
+            };
+            file.disturbance.push(Disturbance {
+                from_s: (r.t_s - dwell_s / 2.0).max(0.0),
+                to_s: r.t_s + dwell_s / 2.0,
+                size_dph: v("size_dph"),
+            });
+        }
+        Kind::HeavyTails => {
+            return "heavy_tails: the twin's Student-t is per sample, and the means of a dwell's samples are Gaussian; not modelled".into();
+        }
+        Kind::BiasInstability | Kind::RateRandomWalk | Kind::Unexplained => return String::new(),
+    }
+    format!("{}: {}", p.kind.name(), if remove { "removed" } else { "set to the recording's fit" })
+}
+
+/// The noise quantities of a profile.
+fn is_noise(q: Quantity) -> bool {
+    matches!(q, Quantity::ResidualSd | Quantity::Allan(_) | Quantity::QuarterSd | Quantity::SampleSd)
+}
+
+/// The effects from the diagnosis.
+pub fn effects(
+    file: &InstrumentFile,
+    physics: &[Physics],
+    rec: &Recording,
+    dwell_s: f64,
+) -> (InstrumentFile, Vec<String>) {
+    let mut f = file.clone();
+    let mut notes = Vec::new();
+    if (rec.latitude_deg - f.site.latitude_deg).abs() > 1e-9 {
+        notes.push(format!("latitude: {} -> {} (the recording's)", f.site.latitude_deg, rec.latitude_deg));
+        f.site.latitude_deg = rec.latitude_deg;
+    }
+    for p in physics.iter().filter(|p| p.verdict != Verdict::Modelled) {
+        let n = set(&mut f, p, rec, dwell_s);
+        if !n.is_empty() {
+            notes.push(n);
+        }
+    }
+    (f, notes)
+}
+
+/// Where `cmp` (of replays of `file` with the effects put in) still finds them apart: the
+/// noise model replaced by the recording's, and the Eq. 7 numbers, the inclinometer's offset
+/// and the temperature moved onto the recording's.
+pub fn moments(
+    file: &InstrumentFile,
+    cmp: &Comparison,
+    physics: &[Physics],
+    diag: &Diagnosis,
+    rec: &Recording,
+) -> (InstrumentFile, Vec<String>) {
+    let mut f = file.clone();
+    let mut notes = Vec::new();
+    let noise_named = physics
+        .iter()
+        .any(|p| matches!(p.kind, Kind::BiasInstability | Kind::RateRandomWalk) && p.verdict != Verdict::Modelled);
+    if noise_named || cmp.any(is_noise) {
+        let tails = f.noise.student_t_dof;
+        f.noise = Noise::of(&noise_of(diag));
+        f.noise.student_t_dof = tails;
+        let how = if noise_of(diag) == diag.noise_model { "" } else { ", made with the drift in the design" };
+        notes.push(format!("noise: the recording's estimate ({}{how})", diag.noise_source));
+    }
+    let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
+    if let Some((r, s)) = off(Quantity::Bias) {
+        f.gyro.bias_dph = (f.gyro.bias_dph + r - s).clamp(-50.0, 50.0);
+        notes.push(format!("bias: moved by {:+.5} deg/h", r - s));
+    }
+    if let Some((r, s)) = off(Quantity::Amplitude).filter(|(_, s)| *s > 0.0) {
+        f.gyro.scale = (f.gyro.scale * r / s).clamp(0.1, 10.0);
+        notes.push(format!("scale: times {:.6} (the amplitude)", r / s));
+    }
+    if let Some((r, s)) = off(Quantity::Azimuth) {
+        let a = f.site.azimuth_deg + r - s;
+        f.site.azimuth_deg = (a + 180.0).rem_euclid(360.0) - 180.0;
+        notes.push(format!("azimuth: moved by {:+.5} deg", r - s));
+    }
+    if let Some((r, s)) = off(Quantity::TiltOffset) {
+        f.inclinometer.offset_x_deg = (f.inclinometer.offset_x_deg + r - s).clamp(-10.0, 10.0);
+        notes.push(format!("inclinometer X offset: moved by {:+.5} deg", r - s));
+    }
+    if off(Quantity::TempMean).is_some() || off(Quantity::TempSlope).is_some() {
+        let temp: Vec<(f64, f64)> = rec.rows.iter().filter_map(|r| Some((r.t_s, r.temp_c?))).collect();
+        let n = temp.len() as f64;
+        let (mt, mc) = temp.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
+        let sxx: f64 = temp.iter().map(|p| (p.0 - mt).powi(2)).sum();
+        let slope = if sxx > 0.0 { temp.iter().map(|p| (p.0 - mt) * (p.1 - mc)).sum::<f64>() / sxx } else { 0.0 };
+        f.temperature.ramp_c_per_s = slope.clamp(-1.0, 1.0);
+        f.temperature.start_c = (mc - slope * mt).clamp(-60.0, 125.0);
+        f.temperature.swing_c = 0.0;
+        notes.push(format!("temperature: {:.3} C at 0 s, {:+.6} C/s (the recording's)", f.temperature.start_c, slope));
+    }
+    (f, notes)
+}

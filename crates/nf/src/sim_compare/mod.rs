@@ -1,0 +1,127 @@
+//! `nf diagnose --sim`: a recording against the simulation the user ran. The instrument file
+//! is replayed under the recording's own plan (`replay`), both are reduced to the same
+//! numbers (`profile`) and compared against the replays' spread (`compare`); the recording's
+//! diagnosis, and one of a replay, say which physics the simulation lacks (`physics`); the
+//! file with it put in (`fix`) is replayed again to show the mismatch after.
+
+mod compare;
+mod fix;
+mod physics;
+mod profile;
+mod replay;
+#[cfg(test)]
+mod tests;
+
+pub use compare::{Comparison, Line};
+pub use physics::{Physics, Verdict};
+pub use profile::{Quantity, profile};
+pub use replay::{dwell_of, replay};
+
+use crate::diagnose::{self, Diagnosis};
+use crate::instrument_file::InstrumentFile;
+use crate::linfit;
+use crate::recording::Recording;
+
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Replays of the simulation per comparison.
+    pub replays: usize,
+    /// False-alarm rate of a comparison, over all its quantities.
+    pub alpha: f64,
+    pub diagnose: diagnose::Options,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            replays: 20,
+            alpha: 0.05,
+            diagnose: diagnose::Options::default(),
+        }
+    }
+}
+
+/// Residuals of Eq. 7 against the angle, for the plot.
+#[derive(Debug, Clone, Default)]
+pub struct Residuals {
+    pub gamma_deg: Vec<f64>,
+    pub resid_dph: Vec<f64>,
+}
+
+fn residuals(rec: &Recording) -> Residuals {
+    let g: Vec<f64> = rec.rows.iter().map(|r| r.encoder_deg).collect();
+    let y: Vec<f64> = rec.rows.iter().map(|r| r.rate_dph).collect();
+    let cols = [
+        g.iter().map(|v| v.to_radians().cos()).collect(),
+        g.iter().map(|v| v.to_radians().sin()).collect(),
+        vec![1.0; g.len()],
+    ];
+    let resid = linfit::fit(&cols, &y).map_or_else(|| vec![0.0; g.len()], |f| f.resid);
+    Residuals {
+        gamma_deg: g,
+        resid_dph: resid,
+    }
+}
+
+/// The instrument file after the fix, what was changed, and the comparison of its replays.
+#[derive(Debug, Clone)]
+pub struct Fixed {
+    pub file: InstrumentFile,
+    pub changes: Vec<String>,
+    pub after: Comparison,
+    pub residuals: Residuals,
+}
+
+#[derive(Debug, Clone)]
+pub struct SimReport {
+    pub dwell_s: f64,
+    pub physics: Vec<Physics>,
+    pub before: Comparison,
+    pub fixed: Fixed,
+    pub recording: Residuals,
+    pub simulation: Residuals,
+}
+
+/// Seeds of the replays, away from the file's own so that a recording simulated with it does
+/// not share its noise.
+fn seed(file: &InstrumentFile, i: usize) -> u64 {
+    file.seed ^ 0x9E37_79B9_7F4A_7C15u64.wrapping_mul(i as u64 + 1)
+}
+
+/// The profiles of `replays` replays of `file`, and the first replay.
+fn replays(file: &InstrumentFile, rec: &Recording, n: usize) -> (Vec<profile::Profile>, Recording) {
+    let first = replay(file, rec, seed(file, 0));
+    let profiles = std::iter::once(profile(&first))
+        .chain((1..n).map(|i| profile(&replay(file, rec, seed(file, i)))))
+        .flatten()
+        .collect();
+    (profiles, first)
+}
+
+/// Compares `rec` (diagnosed as `diag`) with the simulation `file`.
+pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &Options) -> Result<SimReport, String> {
+    let dwell_s = dwell_of(rec, file.run.dwell_s);
+    let mine = profile(rec).ok_or("the positions do not determine A cos + B sin + C")?;
+    let (sims, first) = replays(file, rec, opt.replays);
+    let before = compare::compare(&mine, &sims, opt.alpha);
+    let sim_diag = diagnose::diagnose(&first, &opt.diagnose)?;
+    let physics = physics::judge(rec, diag, file, &sim_diag, dwell_s);
+    let (f1, mut changes) = fix::effects(file, &physics, rec, dwell_s);
+    let (sims1, _) = replays(&f1, rec, opt.replays);
+    let (f2, moved) = fix::moments(&f1, &compare::compare(&mine, &sims1, opt.alpha), &physics, diag, rec);
+    changes.extend(moved);
+    let (sims2, first2) = replays(&f2, rec, opt.replays);
+    Ok(SimReport {
+        dwell_s,
+        physics,
+        before,
+        fixed: Fixed {
+            file: f2,
+            changes,
+            after: compare::compare(&mine, &sims2, opt.alpha),
+            residuals: residuals(&first2),
+        },
+        recording: residuals(rec),
+        simulation: residuals(&first),
+    })
+}

@@ -1,0 +1,194 @@
+//! Which physics the simulation lacks: each catalogue effect and noise property the
+//! recording's diagnosis names, against the instrument file's value of it; and what a
+//! diagnosis of the simulation names that the recording's does not.
+
+use crate::diagnose::{Diagnosis, Finding, Kind, Param};
+use crate::instrument_file::InstrumentFile;
+use crate::recording::Recording;
+use nf_model::noise::NoiseModel;
+use std::fmt;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// The recording has it, the simulation has none of it.
+    Missing,
+    /// Both have it, of different sizes.
+    Different,
+    /// Both have it, of the same size within the recording's uncertainty.
+    Modelled,
+    /// The simulation has it, the recording does not show it.
+    OnlyInSimulation,
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Verdict::Missing => "missing from the simulation",
+            Verdict::Different => "in both, of a different size",
+            Verdict::Modelled => "in both, the same within its uncertainty",
+            Verdict::OnlyInSimulation => "in the simulation, not shown by the recording",
+        })
+    }
+}
+
+/// One effect, as the recording shows it and as the file has it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Physics {
+    pub kind: Kind,
+    pub verdict: Verdict,
+    /// The parameter compared, with the recording's value and uncertainty.
+    pub parameter: Param,
+    pub simulated: f64,
+    /// Every parameter the recording's diagnosis fitted (those of the simulation's for
+    /// `OnlyInSimulation`).
+    pub found: Vec<Param>,
+}
+
+pub fn param<'a>(f: &'a [Param], name: &str) -> Option<&'a Param> {
+    f.iter().find(|p| p.name == name)
+}
+
+/// Mean offset of a dwell's first quarter from its other three under the file's settling.
+pub fn settling_offset(file: &InstrumentFile, dwell_s: f64) -> f64 {
+    let (size, tau, s) = (file.settling.size_dph, file.settling.tau_s, file.run.settle_s);
+    let mean_over = |a: f64, b: f64| size * tau * ((-a / tau).exp() - (-b / tau).exp()) / (b - a);
+    let q = dwell_s / 4.0;
+    mean_over(s, s + q) - mean_over(s + q, s + dwell_s)
+}
+
+/// The run's middle time, s (where the diagnosis takes the drift's slope).
+pub fn middle_s(rec: &Recording) -> f64 {
+    let (lo, hi) = rec
+        .rows
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| (lo.min(r.t_s), hi.max(r.t_s)));
+    (lo + hi) / 2.0
+}
+
+/// The parameter compared for `kind` and the file's value of it; `None` for kinds a file
+/// does not describe by one number.
+fn simulated(kind: Kind, found: &[Param], file: &InstrumentFile, rec: &Recording, dwell_s: f64) -> Option<(&'static str, f64)> {
+    let harmonic = param(found, "harmonic").map_or(0, |p| p.value as u8);
+    Some(match kind {
+        Kind::BiasDrift => (
+            "rate_dph_per_s",
+            file.drift.linear_dph_per_s + 2.0 * file.drift.quadratic_dph_per_s2 * middle_s(rec),
+        ),
+        Kind::BiasJump => ("size_dph", file.jump.map_or(0.0, |j| j.size_dph)),
+        Kind::ThermalDrift => ("dph_per_degc", file.temperature.bias_dph_per_c),
+        Kind::ShaftTilt => ("tilt_deg", file.shaft.tilt_deg),
+        Kind::EncoderError => (
+            "amplitude_arcsec",
+            file.encoder.error.iter().filter(|e| e.harmonic == harmonic).map(|e| e.amplitude_arcsec).sum(),
+        ),
+        Kind::ScaleFactor => ("scale", file.gyro.scale),
+        Kind::Nonlinearity => ("k2_per_dph", file.gyro.nonlinearity_per_dph),
+        Kind::SettlingTransient => ("first_quarter_offset_dph", settling_offset(file, dwell_s)),
+        Kind::Outliers => {
+            let t = param(found, "index")
+                .and_then(|i| rec.rows.iter().find(|r| r.index as f64 == i.value))
+                .map_or(f64::NAN, |r| r.t_s);
+            let size = file.disturbance.iter().filter(|d| (d.from_s..d.to_s).contains(&t)).map(|d| d.size_dph).sum();
+            ("size_dph", size)
+        }
+        Kind::BiasInstability => ("bias_instability_dph", file.noise.bias_instability_dph),
+        Kind::RateRandomWalk => ("rrw_dph_rth", file.noise.rrw_dph_rth),
+        Kind::HeavyTails => ("student_t_dof", file.noise.student_t_dof),
+        Kind::Unexplained => return None,
+    })
+}
+
+/// Whether `found` and the file's `sim` agree: within 3 sigma, or the profile range of a
+/// noise term, or 20 % where the diagnosis gives no uncertainty.
+fn agrees(kind: Kind, p: &Param, found: &[Param], sim: f64) -> bool {
+    if kind == Kind::HeavyTails {
+        // A Student-t of dof > 30 is Gaussian for this purpose.
+        return sim > 0.0 && (sim - p.value).abs() <= 0.5 * p.value.max(sim);
+    }
+    let lo = param(found, &format!("{}_lo", p.name));
+    let hi = param(found, &format!("{}_hi", p.name));
+    if let (Some(lo), Some(hi)) = (lo, hi) {
+        return (lo.value..=hi.value).contains(&sim);
+    }
+    let tol = p.sigma.map_or(0.2 * p.value.abs(), |s| 3.0 * s);
+    (p.value - sim).abs() <= tol
+}
+
+/// The recording's noise: the estimate made with a drift in the design when the diagnosis
+/// found the bias moving, as a strong drift otherwise passes for a random walk.
+pub fn noise_of(diag: &Diagnosis) -> NoiseModel {
+    if diag.findings.iter().any(|f| matches!(f.effect, Kind::BiasDrift | Kind::BiasJump)) {
+        diag.drift_model
+    } else {
+        diag.noise_model
+    }
+}
+
+/// A noise term of the recording's noise model: `None` when the model has none of it.
+fn noise_term(kind: Kind, diag: &Diagnosis, f: &Finding) -> Option<Vec<Param>> {
+    let m = noise_of(diag);
+    let v = match kind {
+        Kind::BiasInstability => m.bias_instability_dph,
+        Kind::RateRandomWalk => m.rrw_dph_rth,
+        _ => return Some(f.parameters.clone()),
+    };
+    if m == diag.noise_model {
+        return Some(f.parameters.clone());
+    }
+    // The finding's profile range belongs to the other model: a factor of two instead.
+    let name = if kind == Kind::BiasInstability { "bias_instability_dph" } else { "rrw_dph_rth" };
+    (v > 0.0).then(|| {
+        vec![
+            Param { name: name.into(), value: v, sigma: None },
+            Param { name: format!("{name}_lo"), value: v / 2.0, sigma: None },
+            Param { name: format!("{name}_hi"), value: v * 2.0, sigma: None },
+        ]
+    })
+}
+
+/// The effects the recording shows, judged against the file, then those only `sim_diag` (a
+/// diagnosis of a replay of the file) shows.
+pub fn judge(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, sim_diag: &Diagnosis, dwell_s: f64) -> Vec<Physics> {
+    let mut out: Vec<Physics> = diag
+        .findings
+        .iter()
+        .filter_map(|f: &Finding| {
+            let found = noise_term(f.effect, diag, f)?;
+            let (name, sim) = simulated(f.effect, &found, file, rec, dwell_s)?;
+            let p = param(&found, name)?.clone();
+            let verdict = if agrees(f.effect, &p, &found, sim) {
+                Verdict::Modelled
+            } else if sim == 0.0 {
+                Verdict::Missing
+            } else {
+                Verdict::Different
+            };
+            Some(Physics {
+                kind: f.effect,
+                verdict,
+                parameter: p,
+                simulated: sim,
+                found,
+            })
+        })
+        .collect();
+    for f in &sim_diag.findings {
+        if out.iter().any(|p| p.kind == f.effect) || diag.findings.iter().any(|g| g.effect == f.effect) {
+            continue;
+        }
+        if let Some((name, sim)) = simulated(f.effect, &f.parameters, file, rec, dwell_s) {
+            out.push(Physics {
+                kind: f.effect,
+                verdict: Verdict::OnlyInSimulation,
+                parameter: crate::diagnose::Param {
+                    name: name.into(),
+                    value: 0.0,
+                    sigma: None,
+                },
+                simulated: sim,
+                found: f.parameters.clone(),
+            });
+        }
+    }
+    out
+}

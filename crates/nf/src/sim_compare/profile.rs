@@ -1,0 +1,152 @@
+//! What a recording and a simulation are compared by: the numbers of its Eq. 7 fit, its
+//! harmonics, its noise at several time scales, its inclinometer and its thermometer.
+
+use crate::allan;
+use crate::linfit;
+use crate::recording::Recording;
+use nf_model::angle::atan2_deg;
+use std::fmt;
+
+/// One quantity of a profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Quantity {
+    /// Eq. 7's amplitude sqrt(A^2 + B^2), deg/h.
+    Amplitude,
+    /// Eq. 7's constant C, deg/h.
+    Bias,
+    /// Eq. 7's psi, deg.
+    Azimuth,
+    /// Amplitude of harmonic k of the rates, deg/h.
+    Harmonic(u8),
+    /// Scatter left by Eq. 7 and harmonics 2 to 4, deg/h.
+    ResidualSd,
+    /// Allan deviation of those residuals in time order over m positions, deg/h.
+    Allan(u32),
+    /// Scatter of a quarter mean about its dwell's mean, deg/h.
+    QuarterSd,
+    /// Mean spread of the samples in a dwell, deg/h.
+    SampleSd,
+    /// First harmonic of the X inclinometer (the shaft tilt), deg.
+    TiltCircle,
+    /// Mean of the X inclinometer (its offset), deg.
+    TiltOffset,
+    /// Mean temperature, C, and its slope, C/s.
+    TempMean,
+    TempSlope,
+}
+
+impl Quantity {
+    /// Quantities that are angles and wrap.
+    pub fn wraps(self) -> bool {
+        self == Quantity::Azimuth
+    }
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Quantity::Amplitude => write!(f, "amplitude_dph"),
+            Quantity::Bias => write!(f, "bias_dph"),
+            Quantity::Azimuth => write!(f, "azimuth_deg"),
+            Quantity::Harmonic(k) => write!(f, "harmonic_{k}_dph"),
+            Quantity::ResidualSd => write!(f, "residual_sd_dph"),
+            Quantity::Allan(m) => write!(f, "allan_{m}_positions_dph"),
+            Quantity::QuarterSd => write!(f, "quarter_sd_dph"),
+            Quantity::SampleSd => write!(f, "sample_sd_dph"),
+            Quantity::TiltCircle => write!(f, "tilt_circle_deg"),
+            Quantity::TiltOffset => write!(f, "tilt_offset_deg"),
+            Quantity::TempMean => write!(f, "temp_mean_c"),
+            Quantity::TempSlope => write!(f, "temp_slope_c_per_s"),
+        }
+    }
+}
+
+/// Harmonics of the angle beyond Eq. 7 that a profile measures.
+const HARMONICS: [u8; 3] = [2, 3, 4];
+
+/// The quantities of one recording, in the order of `Quantity`.
+pub type Profile = Vec<(Quantity, f64)>;
+
+fn harmonic_cols(gamma: &[f64], k: u8) -> [Vec<f64>; 2] {
+    let arg = |g: &f64| (k as f64 * g).to_radians();
+    [gamma.iter().map(|g| arg(g).cos()).collect(), gamma.iter().map(|g| arg(g).sin()).collect()]
+}
+
+fn mean(x: &[f64]) -> f64 {
+    x.iter().sum::<f64>() / x.len().max(1) as f64
+}
+
+/// Slope of `y` against `x`.
+fn slope(x: &[f64], y: &[f64]) -> f64 {
+    let (mx, my) = (mean(x), mean(y));
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    if sxx > 0.0 { sxy / sxx } else { 0.0 }
+}
+
+/// First-harmonic amplitude and mean of `(gamma, v)`.
+fn circle(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let g: Vec<f64> = points.iter().map(|p| p.0).collect();
+    let v: Vec<f64> = points.iter().map(|p| p.1).collect();
+    let [c, s] = harmonic_cols(&g, 1);
+    let f = linfit::fit(&[c, s, vec![1.0; g.len()]], &v)?;
+    Some((f.coef[0].hypot(f.coef[1]), f.coef[2]))
+}
+
+/// The profile of `rec`; `None` when its positions do not determine the fit.
+pub fn profile(rec: &Recording) -> Option<Profile> {
+    let mut rows: Vec<_> = rec.rows.iter().collect();
+    rows.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+    let gamma: Vec<f64> = rows.iter().map(|r| r.encoder_deg).collect();
+    let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
+    let y: Vec<f64> = rows.iter().map(|r| r.rate_dph).collect();
+    let [c1, s1] = harmonic_cols(&gamma, 1);
+    let mut cols = vec![c1, s1, vec![1.0; y.len()]];
+    for k in HARMONICS {
+        cols.extend(harmonic_cols(&gamma, k));
+    }
+    let f = linfit::fit(&cols, &y)?;
+    let mut p: Profile = vec![
+        (Quantity::Amplitude, f.coef[0].hypot(f.coef[1])),
+        (Quantity::Bias, f.coef[2]),
+        // rate = A cos g + B sin g = R cos(g + psi): A = R cos psi, B = -R sin psi.
+        (Quantity::Azimuth, atan2_deg(-f.coef[1], f.coef[0]).rem_euclid(360.0)),
+    ];
+    for (i, k) in HARMONICS.iter().enumerate() {
+        p.push((Quantity::Harmonic(*k), f.coef[3 + 2 * i].hypot(f.coef[4 + 2 * i])));
+    }
+    p.push((Quantity::ResidualSd, f.s2().sqrt()));
+    let step = if t.len() > 1 { (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64 } else { 1.0 };
+    for pt in allan::oavar(&[&f.resid], step, &[1, 4, 16]) {
+        if pt.avar.is_finite() && pt.clusters >= 8 {
+            p.push((Quantity::Allan(pt.m as u32), pt.avar.sqrt()));
+        }
+    }
+    let quarters: Vec<[f64; 4]> = rows.iter().filter_map(|r| r.quarters_dph).collect();
+    if !quarters.is_empty() {
+        let dev: Vec<f64> = quarters
+            .iter()
+            .flat_map(|q| {
+                let m = mean(q);
+                q.map(|v| (v - m).powi(2))
+            })
+            .collect();
+        p.push((Quantity::QuarterSd, (mean(&dev) * 4.0 / 3.0).sqrt()));
+    }
+    let sds: Vec<f64> = rows.iter().filter_map(|r| r.rate_sd_dph).collect();
+    if !sds.is_empty() {
+        p.push((Quantity::SampleSd, mean(&sds)));
+    }
+    let tilt: Vec<(f64, f64)> = rows.iter().filter_map(|r| Some((r.encoder_deg, r.tilt_x_deg?))).collect();
+    if let Some((amp, offset)) = (tilt.len() >= 4).then(|| circle(&tilt)).flatten() {
+        p.push((Quantity::TiltCircle, amp));
+        p.push((Quantity::TiltOffset, offset));
+    }
+    let temp: Vec<(f64, f64)> = rows.iter().filter_map(|r| Some((r.t_s, r.temp_c?))).collect();
+    if temp.len() >= 2 {
+        let (tt, tc): (Vec<f64>, Vec<f64>) = temp.into_iter().unzip();
+        p.push((Quantity::TempMean, mean(&tc)));
+        p.push((Quantity::TempSlope, slope(&tt, &tc)));
+    }
+    Some(p)
+}

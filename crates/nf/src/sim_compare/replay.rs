@@ -1,0 +1,124 @@
+//! An instrument file simulated under a recording's own plan: its positions, in its order, at
+//! its times, with its dwell and its columns. The twin's physics and noise run on in
+//! continuous time between the dwells, as they do in a run.
+
+use crate::instrument_file::InstrumentFile;
+use crate::recording::{Recording, Row};
+use nf_twin::World;
+use std::collections::BTreeMap;
+
+/// The dwell of `rec`: its `dwell_s`, or its samples at its sample rate, or `fallback`; never
+/// longer than the time between two positions.
+pub fn dwell_of(rec: &Recording, fallback: f64) -> f64 {
+    let meta = |k: &str| rec.meta.get(k).and_then(|v| v.trim().parse::<f64>().ok());
+    let from_samples = || {
+        let rate = meta("sample_rate_hz").filter(|r| *r > 0.0)?;
+        let mut s: Vec<u32> = rec.rows.iter().filter_map(|r| r.samples).collect();
+        s.sort_unstable();
+        s.get(s.len() / 2).map(|&m| m as f64 / rate)
+    };
+    let dwell = meta("dwell_s")
+        .or_else(from_samples)
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .unwrap_or(fallback);
+    let mut t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
+    t.sort_by(f64::total_cmp);
+    let spacing = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min);
+    dwell.min(0.95 * spacing)
+}
+
+/// The encoder's error (deg) the instrument file gives at shaft angle `deg`.
+fn encoder_error_deg(file: &InstrumentFile, deg: f64) -> f64 {
+    file.encoder
+        .error
+        .iter()
+        .map(|e| e.amplitude_arcsec / 3600.0 * (e.harmonic as f64 * deg + e.phase_deg).to_radians().sin())
+        .sum()
+}
+
+/// One dwell of the twin: mean, spread and quarter means of its samples.
+struct Dwell {
+    mean: f64,
+    sd: f64,
+    quarters: [f64; 4],
+    samples: u32,
+}
+
+fn sample_dwell(world: &mut World, file: &InstrumentFile, dwell_s: f64) -> Dwell {
+    let m = ((dwell_s * file.run.sample_rate_hz as f64).round() as usize).max(4);
+    let cal = world.cfg.calibration;
+    let x: Vec<f64> = (0..m)
+        .map(|_| {
+            // The twin has no ADC fault here: a conversion always comes.
+            let _ = world.wait_conversion();
+            cal.rate_dph(world.adc_sample() as f64)
+        })
+        .collect();
+    let mean = x.iter().sum::<f64>() / m as f64;
+    let sd = (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (m - 1) as f64).sqrt();
+    let q = |k: usize| {
+        let part = &x[k * m / 4..(k + 1) * m / 4];
+        part.iter().sum::<f64>() / part.len() as f64
+    };
+    Dwell {
+        mean,
+        sd,
+        quarters: [q(0), q(1), q(2), q(3)],
+        samples: m as u32,
+    }
+}
+
+/// `file`'s instrument run through `rec`'s plan with noise seed `seed`.
+pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64) -> Recording {
+    let mut twin = file.twin();
+    twin.seed = seed;
+    let mut world = World::new(twin);
+    let dwell = dwell_of(rec, file.run.dwell_s);
+    let per_turn = (1u64 << file.encoder.bits) as f64;
+    let mut order: Vec<usize> = (0..rec.rows.len()).collect();
+    order.sort_by(|&a, &b| rec.rows[a].t_s.total_cmp(&rec.rows[b].t_s));
+    let mut rows: Vec<Option<Row>> = vec![None; rec.rows.len()];
+    let mut last_deg = f64::NAN;
+    for i in order {
+        let r = &rec.rows[i];
+        let start_s = r.t_s - dwell / 2.0;
+        // The shaft where the encoder read the recording's angle; a move ends `settle_s`
+        // before the dwell, and no move at all leaves the last settling alone.
+        let shaft = (r.encoder_deg - encoder_error_deg(file, r.encoder_deg)).rem_euclid(360.0);
+        if !((shaft - last_deg).abs() <= 1e-9) {
+            world.shaft_deg = shaft;
+            world.last_move_end_s = start_s - file.run.settle_s;
+            last_deg = shaft;
+        }
+        let now = world.t_s();
+        if start_s > now {
+            world.advance(((start_s - now) * 1e6).round() as u64);
+        }
+        let d = sample_dwell(&mut world, file, dwell);
+        let encoder_deg = world.encoder_counts().map_or(r.encoder_deg, |c| c as f64 / per_turn * 360.0);
+        let (tx, ty) = world.inclinometer();
+        rows[i] = Some(Row {
+            line: r.line,
+            index: r.index,
+            t_s: r.t_s,
+            encoder_deg,
+            rate_dph: d.mean,
+            rate_sd_dph: r.rate_sd_dph.map(|_| d.sd),
+            samples: r.samples.map(|_| d.samples),
+            temp_c: r.temp_c.map(|_| world.temperature_c()),
+            tilt_x_deg: r.tilt_x_deg.map(|_| tx),
+            tilt_y_deg: r.tilt_y_deg.map(|_| ty),
+            quarters_dph: r.quarters_dph.map(|_| d.quarters),
+        });
+    }
+    let mut meta = BTreeMap::new();
+    meta.insert("format".into(), "northfinder-recording/1".into());
+    meta.insert("dwell_s".into(), dwell.to_string());
+    meta.insert("source".into(), "replay of an instrument file".into());
+    Recording {
+        latitude_deg: file.site.latitude_deg,
+        meta,
+        rows: rows.into_iter().flatten().collect(),
+        warnings: Vec::new(),
+    }
+}
