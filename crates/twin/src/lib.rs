@@ -25,6 +25,8 @@ pub struct Recorder {
     pub abort_after_records: Option<usize>,
     /// Abort from this virtual time on, microseconds.
     pub abort_at_us: Option<u64>,
+    /// Virtual time the header line came, microseconds: the run's time 0 (`t_s` counts from it).
+    pub header_at_us: Option<u64>,
 }
 
 impl Recorder {
@@ -44,6 +46,9 @@ impl Recorder {
 
 impl Sink for Recorder {
     async fn line(&mut self, line: &str) {
+        if line.starts_with("index") {
+            self.header_at_us = Some(virtual_now_us());
+        }
         self.lines.push(line.to_string());
     }
 

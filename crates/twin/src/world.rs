@@ -71,6 +71,9 @@ pub struct TwinConfig {
     pub temp_ramp_c_per_s: f64,
     /// Temperature swing: amplitude (C) and period (s), as from a cycling heater.
     pub temp_wave: (f64, f64),
+    /// A measured temperature history `(s, C)`, in time order and linearly interpolated: when
+    /// given it replaces the ramp and the swing (to replay a recording's thermometer).
+    pub temp_trace: Vec<(f64, f64)>,
     /// Decaying disturbance after each move (the rebalance loop's response to the stop):
     /// initial size (deg/h, signed) and time constant (s).
     pub settle_dph: f64,
@@ -119,6 +122,7 @@ impl Default for TwinConfig {
             temp0_c: 40.0,
             temp_ramp_c_per_s: 0.0,
             temp_wave: (0.0, 600.0),
+            temp_trace: Vec::new(),
             settle_dph: 0.02,
             settle_tau_s: 0.05,
             encoder_bits: 23,
@@ -133,6 +137,17 @@ impl Default for TwinConfig {
             seed: 1,
         }
     }
+}
+
+/// `trace` at `t`, held constant beyond its ends; `None` when it is empty.
+fn interpolate(trace: &[(f64, f64)], t: f64) -> Option<f64> {
+    let i = trace.partition_point(|p| p.0 <= t);
+    Some(match (i.checked_sub(1).map(|j| trace[j]), trace.get(i)) {
+        (Some(a), Some(b)) => a.1 + (b.1 - a.1) * (t - a.0) / (b.0 - a.0),
+        (Some(a), None) => a.1,
+        (None, Some(b)) => b.1,
+        (None, None) => return None,
+    })
 }
 
 /// The state of the simulated instrument.
@@ -223,8 +238,11 @@ impl World {
     }
 
     pub fn temperature_c(&self) -> f64 {
-        let (amp, period) = self.cfg.temp_wave;
         let t = self.t_s();
+        if let Some(c) = interpolate(&self.cfg.temp_trace, t) {
+            return c;
+        }
+        let (amp, period) = self.cfg.temp_wave;
         self.cfg.temp0_c + self.cfg.temp_ramp_c_per_s * t + amp * (std::f64::consts::TAU * t / period).sin()
     }
 

@@ -60,7 +60,7 @@ pub fn compare(rec: &Profile, sims: &[Profile], alpha: f64) -> Comparison {
             let m = v.iter().sum::<f64>() / v.len() as f64;
             let sd = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt();
             // A noise-free simulation has no spread: then only digits separate them.
-            let scale = sd.max(1e-9 * r.abs().max(m.abs())).max(1e-300);
+            let scale = sd.max(1e-9 * r.abs().max(m.abs())).max(q.resolution());
             let z = (r - m) / (scale * (1.0 + 1.0 / v.len() as f64).sqrt());
             Some((q, r, m, sd, z, t_sf2(z, (v.len() - 1) as f64)))
         })

@@ -4,14 +4,14 @@
 //! inclinometer and the thermometer moved onto the recording's.
 
 use super::compare::Comparison;
-use super::physics::{Physics, Verdict, middle_s, noise_of, param, settling_offset};
+use super::physics::{Physics, Verdict, middle_s, noise_of, param};
 use super::profile::Quantity;
 use crate::diagnose::{Diagnosis, Kind};
 use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise};
 use crate::recording::Recording;
 
 /// Sets one effect to the recording's fit; what was done, or why not.
-fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64) -> String {
+fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, origin_s: f64) -> String {
     let v = |name: &str| param(&p.found, name).map_or(0.0, |x| x.value);
     let remove = p.verdict == Verdict::OnlyInSimulation;
     match p.kind {
@@ -19,11 +19,11 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64) ->
             let q = if remove { 0.0 } else { v("rate_dph_per_s2") };
             file.drift.quadratic_dph_per_s2 = q;
             // The diagnosis gives the slope at the run's middle.
-            file.drift.linear_dph_per_s = if remove { 0.0 } else { v("rate_dph_per_s") - 2.0 * q * middle_s(rec) };
+            file.drift.linear_dph_per_s = if remove { 0.0 } else { v("rate_dph_per_s") - 2.0 * q * (middle_s(rec) + origin_s) };
         }
         Kind::BiasJump => {
             file.jump = (!remove).then(|| Jump {
-                time_s: v("time_s"),
+                time_s: v("time_s") + origin_s,
                 size_dph: v("size_dph"),
             });
         }
@@ -52,29 +52,23 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64) ->
         Kind::ScaleFactor => file.gyro.scale = if remove { 1.0 } else { v("scale") },
         Kind::Nonlinearity => file.gyro.nonlinearity_per_dph = if remove { 0.0 } else { v("k2_per_dph") },
         Kind::SettlingTransient => {
-            // One number cannot give a size and a time constant: the decay keeps the file's
-            // time constant and is sized to the first quarter's offset.
-            let unit = {
-                let mut f = file.clone();
-                f.settling.size_dph = 1.0;
-                settling_offset(&f, dwell_s)
-            };
-            let target = if remove { 0.0 } else { v("first_quarter_offset_dph") };
-            if unit.abs() < 1e-12 {
-                return format!(
-                    "settling_transient: with tau_s = {} and settle_s = {} no decay reaches the dwell; set [settling] by hand",
-                    file.settling.tau_s, file.run.settle_s
-                );
+            if remove {
+                file.settling.size_dph = 0.0;
+            } else {
+                let Some((size, tau)) = settling_fit(rec, file.run.settle_s, dwell_s) else {
+                    return "settling_transient: no decay fits the quarter means; set [settling] by hand".into();
+                };
+                file.settling.size_dph = size;
+                file.settling.tau_s = tau;
             }
-            file.settling.size_dph = (target / unit).clamp(-50.0, 50.0);
         }
         Kind::Outliers => {
             let Some(r) = rec.rows.iter().find(|r| r.index as f64 == v("index")) else {
                 return "outliers: the position is not in the recording".into();
             };
             file.disturbance.push(Disturbance {
-                from_s: (r.t_s - dwell_s / 2.0).max(0.0),
-                to_s: r.t_s + dwell_s / 2.0,
+                from_s: (r.t_s + origin_s - dwell_s / 2.0).max(0.0),
+                to_s: r.t_s + origin_s + dwell_s / 2.0,
                 size_dph: v("size_dph"),
             });
         }
@@ -86,9 +80,70 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64) ->
     format!("{}: {}", p.kind.name(), if remove { "removed" } else { "set to the recording's fit" })
 }
 
+/// Quarter k's mean of `exp(-t / tau)` less the dwell's, the move ending `settle_s` before.
+fn decay_pattern(tau: f64, settle_s: f64, dwell_s: f64) -> [f64; 4] {
+    let q = dwell_s / 4.0;
+    let mean_over = |a: f64| tau * ((-a / tau).exp() - (-(a + q) / tau).exp()) / q;
+    let p = [0, 1, 2, 3].map(|k| mean_over(settle_s + k as f64 * q));
+    let m = p.iter().sum::<f64>() / 4.0;
+    p.map(|v| v - m)
+}
+
+/// Size (deg/h) and time constant (s) of the decay that best fits the recording's mean
+/// quarter pattern, over a grid of time constants.
+pub fn settling_fit(rec: &Recording, settle_s: f64, dwell_s: f64) -> Option<(f64, f64)> {
+    let q: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    if q.is_empty() {
+        return None;
+    }
+    let n = q.len() as f64;
+    let d = [0, 1, 2, 3].map(|k| q.iter().map(|q| q[k] - q.iter().sum::<f64>() / 4.0).sum::<f64>() / n);
+    (0..60)
+        .map(|i| 1e-3 * 1.2f64.powi(i))
+        .filter(|tau| *tau <= 600.0)
+        .filter_map(|tau| {
+            let p = decay_pattern(tau, settle_s, dwell_s);
+            let pp: f64 = p.iter().map(|v| v * v).sum();
+            (pp > 1e-30).then(|| {
+                let size = p.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>() / pp;
+                let rss: f64 = p.iter().zip(&d).map(|(a, b)| (b - size * a).powi(2)).sum();
+                (rss, size, tau)
+            })
+        })
+        .filter(|(_, size, _)| size.abs() <= 50.0)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, size, tau)| (size, tau))
+}
+
 /// The noise quantities of a profile.
 fn is_noise(q: Quantity) -> bool {
     matches!(q, Quantity::ResidualSd | Quantity::Allan(_) | Quantity::QuarterSd | Quantity::SampleSd)
+}
+
+/// RMS (C) by which the file's temperature may miss the recording's before the file takes
+/// the recording's ramp.
+const TEMP_TOLERANCE_C: f64 = 0.1;
+
+/// The recording's temperature as a ramp, where the file's misses it.
+fn temperature(f: &mut InstrumentFile, rec: &Recording, origin_s: f64) -> Option<String> {
+    let temp: Vec<(f64, f64)> = rec.rows.iter().filter_map(|r| Some((r.t_s + origin_s, r.temp_c?))).collect();
+    let n = temp.len() as f64;
+    let t = &f.temperature;
+    let model = |s: f64| t.start_c + t.ramp_c_per_s * s + t.swing_c * (std::f64::consts::TAU * s / t.swing_period_s).sin();
+    let miss = (temp.iter().map(|p| (p.1 - model(p.0)).powi(2)).sum::<f64>() / n).sqrt();
+    if temp.len() < 2 || miss <= TEMP_TOLERANCE_C {
+        return None;
+    }
+    let (mt, mc) = temp.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
+    let sxx: f64 = temp.iter().map(|p| (p.0 - mt).powi(2)).sum();
+    let slope = if sxx > 0.0 { temp.iter().map(|p| (p.0 - mt) * (p.1 - mc)).sum::<f64>() / sxx } else { 0.0 };
+    f.temperature.ramp_c_per_s = slope.clamp(-1.0, 1.0);
+    f.temperature.start_c = (mc - slope * mt).clamp(-60.0, 125.0);
+    f.temperature.swing_c = 0.0;
+    Some(format!(
+        "temperature: the file missed the recording's by {miss:.3} C RMS; now {:.3} C at 0 s and {slope:+.6} C/s (a swing is not fitted; the comparison follows the recording's thermometer)",
+        f.temperature.start_c
+    ))
 }
 
 /// The effects from the diagnosis.
@@ -97,6 +152,7 @@ pub fn effects(
     physics: &[Physics],
     rec: &Recording,
     dwell_s: f64,
+    origin_s: f64,
 ) -> (InstrumentFile, Vec<String>) {
     let mut f = file.clone();
     let mut notes = Vec::new();
@@ -104,8 +160,11 @@ pub fn effects(
         notes.push(format!("latitude: {} -> {} (the recording's)", f.site.latitude_deg, rec.latitude_deg));
         f.site.latitude_deg = rec.latitude_deg;
     }
+    if let Some(n) = temperature(&mut f, rec, origin_s) {
+        notes.push(n);
+    }
     for p in physics.iter().filter(|p| p.verdict != Verdict::Modelled) {
-        let n = set(&mut f, p, rec, dwell_s);
+        let n = set(&mut f, p, rec, dwell_s, origin_s);
         if !n.is_empty() {
             notes.push(n);
         }
@@ -121,7 +180,6 @@ pub fn moments(
     cmp: &Comparison,
     physics: &[Physics],
     diag: &Diagnosis,
-    rec: &Recording,
 ) -> (InstrumentFile, Vec<String>) {
     let mut f = file.clone();
     let mut notes = Vec::new();
@@ -152,17 +210,6 @@ pub fn moments(
     if let Some((r, s)) = off(Quantity::TiltOffset) {
         f.inclinometer.offset_x_deg = (f.inclinometer.offset_x_deg + r - s).clamp(-10.0, 10.0);
         notes.push(format!("inclinometer X offset: moved by {:+.5} deg", r - s));
-    }
-    if off(Quantity::TempMean).is_some() || off(Quantity::TempSlope).is_some() {
-        let temp: Vec<(f64, f64)> = rec.rows.iter().filter_map(|r| Some((r.t_s, r.temp_c?))).collect();
-        let n = temp.len() as f64;
-        let (mt, mc) = temp.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
-        let sxx: f64 = temp.iter().map(|p| (p.0 - mt).powi(2)).sum();
-        let slope = if sxx > 0.0 { temp.iter().map(|p| (p.0 - mt) * (p.1 - mc)).sum::<f64>() / sxx } else { 0.0 };
-        f.temperature.ramp_c_per_s = slope.clamp(-1.0, 1.0);
-        f.temperature.start_c = (mc - slope * mt).clamp(-60.0, 125.0);
-        f.temperature.swing_c = 0.0;
-        notes.push(format!("temperature: {:.3} C at 0 s, {:+.6} C/s (the recording's)", f.temperature.start_c, slope));
     }
     (f, notes)
 }

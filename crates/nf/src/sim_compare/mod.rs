@@ -13,9 +13,9 @@ mod replay;
 mod tests;
 
 pub use compare::{Comparison, Line};
-pub use physics::{Physics, Verdict};
+pub use physics::{Physics, Verdict, settling_offset};
 pub use profile::{Quantity, profile};
-pub use replay::{dwell_of, replay};
+pub use replay::{dwell_of, replay, run_origin_s};
 
 use crate::diagnose::{self, Diagnosis};
 use crate::instrument_file::InstrumentFile;
@@ -90,9 +90,10 @@ fn seed(file: &InstrumentFile, i: usize) -> u64 {
 
 /// The profiles of `replays` replays of `file`, and the first replay.
 fn replays(file: &InstrumentFile, rec: &Recording, n: usize) -> (Vec<profile::Profile>, Recording) {
-    let first = replay(file, rec, seed(file, 0));
+    let origin = run_origin_s(file);
+    let first = replay(file, rec, seed(file, 0), origin);
     let profiles = std::iter::once(profile(&first))
-        .chain((1..n).map(|i| profile(&replay(file, rec, seed(file, i)))))
+        .chain((1..n).map(|i| profile(&replay(file, rec, seed(file, i), origin))))
         .flatten()
         .collect();
     (profiles, first)
@@ -105,10 +106,11 @@ pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &O
     let (sims, first) = replays(file, rec, opt.replays);
     let before = compare::compare(&mine, &sims, opt.alpha);
     let sim_diag = diagnose::diagnose(&first, &opt.diagnose)?;
-    let physics = physics::judge(rec, diag, file, &sim_diag, dwell_s);
-    let (f1, mut changes) = fix::effects(file, &physics, rec, dwell_s);
+    let origin_s = run_origin_s(file);
+    let physics = physics::judge(rec, diag, file, &sim_diag, dwell_s, origin_s);
+    let (f1, mut changes) = fix::effects(file, &physics, rec, dwell_s, origin_s);
     let (sims1, _) = replays(&f1, rec, opt.replays);
-    let (f2, moved) = fix::moments(&f1, &compare::compare(&mine, &sims1, opt.alpha), &physics, diag, rec);
+    let (f2, moved) = fix::moments(&f1, &compare::compare(&mine, &sims1, opt.alpha), &physics, diag);
     changes.extend(moved);
     let (sims2, first2) = replays(&f2, rec, opt.replays);
     Ok(SimReport {

@@ -67,19 +67,26 @@ pub fn middle_s(rec: &Recording) -> f64 {
 
 /// The parameter compared for `kind` and the file's value of it; `None` for kinds a file
 /// does not describe by one number.
-fn simulated(kind: Kind, found: &[Param], file: &InstrumentFile, rec: &Recording, dwell_s: f64) -> Option<(&'static str, f64)> {
+fn simulated(
+    kind: Kind,
+    found: &[Param],
+    file: &InstrumentFile,
+    rec: &Recording,
+    dwell_s: f64,
+    origin_s: f64,
+) -> Option<(&'static str, f64)> {
     let harmonic = param(found, "harmonic").map_or(0, |p| p.value as u8);
     Some(match kind {
         Kind::BiasDrift => (
             "rate_dph_per_s",
-            file.drift.linear_dph_per_s + 2.0 * file.drift.quadratic_dph_per_s2 * middle_s(rec),
+            file.drift.linear_dph_per_s + 2.0 * file.drift.quadratic_dph_per_s2 * (middle_s(rec) + origin_s),
         ),
         Kind::BiasJump => ("size_dph", file.jump.map_or(0.0, |j| j.size_dph)),
         Kind::ThermalDrift => ("dph_per_degc", file.temperature.bias_dph_per_c),
         Kind::ShaftTilt => ("tilt_deg", file.shaft.tilt_deg),
         Kind::EncoderError => (
             "amplitude_arcsec",
-            file.encoder.error.iter().filter(|e| e.harmonic == harmonic).map(|e| e.amplitude_arcsec).sum(),
+            file.encoder.error.iter().filter(|e| e.harmonic == harmonic).map(|e| e.amplitude_arcsec).fold(0.0, |a, b| a + b),
         ),
         Kind::ScaleFactor => ("scale", file.gyro.scale),
         Kind::Nonlinearity => ("k2_per_dph", file.gyro.nonlinearity_per_dph),
@@ -87,8 +94,8 @@ fn simulated(kind: Kind, found: &[Param], file: &InstrumentFile, rec: &Recording
         Kind::Outliers => {
             let t = param(found, "index")
                 .and_then(|i| rec.rows.iter().find(|r| r.index as f64 == i.value))
-                .map_or(f64::NAN, |r| r.t_s);
-            let size = file.disturbance.iter().filter(|d| (d.from_s..d.to_s).contains(&t)).map(|d| d.size_dph).sum();
+                .map_or(f64::NAN, |r| r.t_s + origin_s);
+            let size = file.disturbance.iter().filter(|d| (d.from_s..d.to_s).contains(&t)).map(|d| d.size_dph).fold(0.0, |a, b| a + b);
             ("size_dph", size)
         }
         Kind::BiasInstability => ("bias_instability_dph", file.noise.bias_instability_dph),
@@ -148,13 +155,21 @@ fn noise_term(kind: Kind, diag: &Diagnosis, f: &Finding) -> Option<Vec<Param>> {
 
 /// The effects the recording shows, judged against the file, then those only `sim_diag` (a
 /// diagnosis of a replay of the file) shows.
-pub fn judge(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, sim_diag: &Diagnosis, dwell_s: f64) -> Vec<Physics> {
+/// `origin_s` is where the run starts on the file's clock.
+pub fn judge(
+    rec: &Recording,
+    diag: &Diagnosis,
+    file: &InstrumentFile,
+    sim_diag: &Diagnosis,
+    dwell_s: f64,
+    origin_s: f64,
+) -> Vec<Physics> {
     let mut out: Vec<Physics> = diag
         .findings
         .iter()
         .filter_map(|f: &Finding| {
             let found = noise_term(f.effect, diag, f)?;
-            let (name, sim) = simulated(f.effect, &found, file, rec, dwell_s)?;
+            let (name, sim) = simulated(f.effect, &found, file, rec, dwell_s, origin_s)?;
             let p = param(&found, name)?.clone();
             let verdict = if agrees(f.effect, &p, &found, sim) {
                 Verdict::Modelled
@@ -176,7 +191,8 @@ pub fn judge(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, sim_diag:
         if out.iter().any(|p| p.kind == f.effect) || diag.findings.iter().any(|g| g.effect == f.effect) {
             continue;
         }
-        if let Some((name, sim)) = simulated(f.effect, &f.parameters, file, rec, dwell_s) {
+        // A finding of the replay that the file has none of is the replay's false alarm.
+        if let Some((name, sim)) = simulated(f.effect, &f.parameters, file, rec, dwell_s, origin_s).filter(|s| s.1 != 0.0) {
             out.push(Physics {
                 kind: f.effect,
                 verdict: Verdict::OnlyInSimulation,

@@ -1,5 +1,6 @@
 //! What a recording and a simulation are compared by: the numbers of its Eq. 7 fit, its
-//! harmonics, its noise at several time scales, its inclinometer and its thermometer.
+//! harmonics, its noise at several time scales and its inclinometer. (The temperature is not
+//! compared: a replay follows the recording's.)
 
 use crate::allan;
 use crate::linfit;
@@ -30,15 +31,21 @@ pub enum Quantity {
     TiltCircle,
     /// Mean of the X inclinometer (its offset), deg.
     TiltOffset,
-    /// Mean temperature, C, and its slope, C/s.
-    TempMean,
-    TempSlope,
 }
 
 impl Quantity {
     /// Quantities that are angles and wrap.
     pub fn wraps(self) -> bool {
         self == Quantity::Azimuth
+    }
+
+    /// The smallest difference that counts, for a simulation without noise in it.
+    pub fn resolution(self) -> f64 {
+        match self {
+            Quantity::TiltCircle | Quantity::TiltOffset => 1e-6,
+            Quantity::Azimuth => 1e-7,
+            _ => 1e-9,
+        }
     }
 }
 
@@ -55,8 +62,6 @@ impl fmt::Display for Quantity {
             Quantity::SampleSd => write!(f, "sample_sd_dph"),
             Quantity::TiltCircle => write!(f, "tilt_circle_deg"),
             Quantity::TiltOffset => write!(f, "tilt_offset_deg"),
-            Quantity::TempMean => write!(f, "temp_mean_c"),
-            Quantity::TempSlope => write!(f, "temp_slope_c_per_s"),
         }
     }
 }
@@ -74,14 +79,6 @@ fn harmonic_cols(gamma: &[f64], k: u8) -> [Vec<f64>; 2] {
 
 fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len().max(1) as f64
-}
-
-/// Slope of `y` against `x`.
-fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let (mx, my) = (mean(x), mean(y));
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    if sxx > 0.0 { sxy / sxx } else { 0.0 }
 }
 
 /// First-harmonic amplitude and mean of `(gamma, v)`.
@@ -141,12 +138,6 @@ pub fn profile(rec: &Recording) -> Option<Profile> {
     if let Some((amp, offset)) = (tilt.len() >= 4).then(|| circle(&tilt)).flatten() {
         p.push((Quantity::TiltCircle, amp));
         p.push((Quantity::TiltOffset, offset));
-    }
-    let temp: Vec<(f64, f64)> = rows.iter().filter_map(|r| Some((r.t_s, r.temp_c?))).collect();
-    if temp.len() >= 2 {
-        let (tt, tc): (Vec<f64>, Vec<f64>) = temp.into_iter().unzip();
-        p.push((Quantity::TempMean, mean(&tc)));
-        p.push((Quantity::TempSlope, slope(&tt, &tc)));
     }
     Some(p)
 }

@@ -1,10 +1,11 @@
 //! An instrument file simulated under a recording's own plan: its positions, in its order, at
 //! its times, with its dwell and its columns. The twin's physics and noise run on in
-//! continuous time between the dwells, as they do in a run.
+//! continuous time between the dwells, as they do in a run; the temperature follows the
+//! recording's thermometer.
 
 use crate::instrument_file::InstrumentFile;
 use crate::recording::{Recording, Row};
-use nf_twin::World;
+use nf_twin::{Recorder, World};
 use std::collections::BTreeMap;
 
 /// The dwell of `rec`: its `dwell_s`, or its samples at its sample rate, or `fallback`; never
@@ -36,21 +37,29 @@ fn encoder_error_deg(file: &InstrumentFile, deg: f64) -> f64 {
         .sum()
 }
 
-/// One dwell of the twin: mean, spread and quarter means of its samples.
+/// One dwell of the twin: mean, spread and quarter means of its samples; the inclinometer and
+/// the thermometer read at its middle, as the firmware reads them.
 struct Dwell {
     mean: f64,
     sd: f64,
     quarters: [f64; 4],
     samples: u32,
+    tilt: (f64, f64),
+    temp_c: f64,
 }
 
 fn sample_dwell(world: &mut World, file: &InstrumentFile, dwell_s: f64) -> Dwell {
     let m = ((dwell_s * file.run.sample_rate_hz as f64).round() as usize).max(4);
     let cal = world.cfg.calibration;
+    let (mut tilt, mut temp_c) = ((0.0, 0.0), 0.0);
     let x: Vec<f64> = (0..m)
-        .map(|_| {
+        .map(|i| {
             // The twin has no ADC fault here: a conversion always comes.
             let _ = world.wait_conversion();
+            if i == m / 2 {
+                tilt = world.inclinometer();
+                temp_c = world.temperature_c();
+            }
             cal.rate_dph(world.adc_sample() as f64)
         })
         .collect();
@@ -65,13 +74,30 @@ fn sample_dwell(world: &mut World, file: &InstrumentFile, dwell_s: f64) -> Dwell
         sd,
         quarters: [q(0), q(1), q(2), q(3)],
         samples: m as u32,
+        tilt,
+        temp_c,
     }
 }
 
-/// `file`'s instrument run through `rec`'s plan with noise seed `seed`.
-pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64) -> Recording {
+/// When, on the twin's clock (from power-on, the clock of an instrument file's times), the
+/// file's run starts: after levelling, where the recording's `t_s` counts from.
+pub fn run_origin_s(file: &InstrumentFile) -> f64 {
+    let mut rec = Recorder {
+        abort_after_records: Some(1),
+        ..Recorder::default()
+    };
+    nf_twin::simulate(&file.twin(), &file.run_config(), &mut rec);
+    rec.header_at_us.map_or(0.0, |us| us as f64 * 1e-6)
+}
+
+/// `file`'s instrument run through `rec`'s plan with noise seed `seed`, the run starting at
+/// `origin_s` on the twin's clock.
+pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) -> Recording {
     let mut twin = file.twin();
     twin.seed = seed;
+    // The temperature is the recording's, as its times and angles are.
+    twin.temp_trace = rec.rows.iter().filter_map(|r| Some((r.t_s + origin_s, r.temp_c?))).collect();
+    twin.temp_trace.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut world = World::new(twin);
     let dwell = dwell_of(rec, file.run.dwell_s);
     let per_turn = (1u64 << file.encoder.bits) as f64;
@@ -81,7 +107,7 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64) -> Recording {
     let mut last_deg = f64::NAN;
     for i in order {
         let r = &rec.rows[i];
-        let start_s = r.t_s - dwell / 2.0;
+        let start_s = r.t_s + origin_s - dwell / 2.0;
         // The shaft where the encoder read the recording's angle; a move ends `settle_s`
         // before the dwell, and no move at all leaves the last settling alone.
         let shaft = (r.encoder_deg - encoder_error_deg(file, r.encoder_deg)).rem_euclid(360.0);
@@ -96,7 +122,7 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64) -> Recording {
         }
         let d = sample_dwell(&mut world, file, dwell);
         let encoder_deg = world.encoder_counts().map_or(r.encoder_deg, |c| c as f64 / per_turn * 360.0);
-        let (tx, ty) = world.inclinometer();
+        let (tx, ty) = d.tilt;
         rows[i] = Some(Row {
             line: r.line,
             index: r.index,
@@ -105,7 +131,7 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64) -> Recording {
             rate_dph: d.mean,
             rate_sd_dph: r.rate_sd_dph.map(|_| d.sd),
             samples: r.samples.map(|_| d.samples),
-            temp_c: r.temp_c.map(|_| world.temperature_c()),
+            temp_c: r.temp_c.map(|_| d.temp_c),
             tilt_x_deg: r.tilt_x_deg.map(|_| tx),
             tilt_y_deg: r.tilt_y_deg.map(|_| ty),
             quarters_dph: r.quarters_dph.map(|_| d.quarters),

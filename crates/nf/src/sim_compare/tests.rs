@@ -11,7 +11,7 @@ fn simulated(file: &InstrumentFile) -> Recording {
 fn a_replay_keeps_the_plan_and_the_columns() {
     let file = InstrumentFile::default();
     let rec = simulated(&file);
-    let r = replay(&file, &rec, 7);
+    let r = replay(&file, &rec, 7, run_origin_s(&file));
     assert_eq!(r.rows.len(), rec.rows.len());
     for (a, b) in rec.rows.iter().zip(&r.rows) {
         assert_eq!((a.index, a.t_s), (b.index, b.t_s));

@@ -1,0 +1,164 @@
+//! `nf diagnose --sim`: a recording from one instrument file, diagnosed against the same file
+//! with one effect taken out, must name that effect as missing, `--fix` must put it back at
+//! its size, and the replays of the fixed file must match the recording.
+
+use nf::diagnose::{Kind, Options, diagnose};
+use nf::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump};
+use nf::recording::Recording;
+use nf::sim_compare::{self, SimReport, Verdict};
+
+fn recording(file: &InstrumentFile) -> Recording {
+    let mut rec = nf_twin::Recorder::default();
+    nf_twin::simulate(&file.twin(), &file.run_config(), &mut rec);
+    Recording::parse(&rec.text()).unwrap()
+}
+
+fn against(rec: &Recording, file: &InstrumentFile) -> SimReport {
+    let d = diagnose(rec, &Options::default()).unwrap();
+    let opt = sim_compare::Options {
+        replays: 10,
+        ..sim_compare::Options::default()
+    };
+    sim_compare::against(rec, &d, file, &opt).unwrap()
+}
+
+/// The instrument of the tests: the paper's, with a heater cycle on the thermometer.
+fn base() -> InstrumentFile {
+    let mut f = InstrumentFile::default();
+    f.temperature.swing_c = 2.0;
+    f.temperature.swing_period_s = 50.0;
+    f.seed = 3;
+    f
+}
+
+struct Case {
+    kind: Kind,
+    /// Puts the effect in, given the middle of one dwell on the file's clock.
+    add: fn(&mut InstrumentFile, f64),
+    /// The effect's size in a file.
+    size: fn(&InstrumentFile) -> f64,
+}
+
+fn cases() -> Vec<Case> {
+    vec![
+        Case {
+            kind: Kind::BiasDrift,
+            add: |f, _| f.drift.linear_dph_per_s = 2e-4,
+            size: |f| f.drift.linear_dph_per_s,
+        },
+        Case {
+            kind: Kind::BiasJump,
+            add: |f, _| {
+                f.jump = Some(Jump {
+                    time_s: 95.0,
+                    size_dph: 0.04,
+                })
+            },
+            size: |f| f.jump.map_or(0.0, |j| j.size_dph),
+        },
+        Case {
+            kind: Kind::ThermalDrift,
+            add: |f, _| f.temperature.bias_dph_per_c = 0.02,
+            size: |f| f.temperature.bias_dph_per_c,
+        },
+        Case {
+            kind: Kind::ShaftTilt,
+            add: |f, _| f.shaft.tilt_deg = 1.0,
+            size: |f| f.shaft.tilt_deg,
+        },
+        Case {
+            kind: Kind::EncoderError,
+            add: |f, _| {
+                f.encoder.error = vec![EncoderError {
+                    harmonic: 2,
+                    amplitude_arcsec: 400.0,
+                    phase_deg: 30.0,
+                }]
+            },
+            size: |f| f.encoder.error.iter().map(|e| e.amplitude_arcsec).sum(),
+        },
+        Case {
+            kind: Kind::ScaleFactor,
+            add: |f, _| f.gyro.scale = 1.01,
+            size: |f| f.gyro.scale - 1.0,
+        },
+        Case {
+            kind: Kind::Nonlinearity,
+            add: |f, _| f.gyro.nonlinearity_per_dph = 5e-4,
+            size: |f| f.gyro.nonlinearity_per_dph,
+        },
+        Case {
+            kind: Kind::SettlingTransient,
+            add: |f, _| {
+                f.settling.size_dph = 0.3;
+                f.settling.tau_s = 0.3;
+            },
+            size: |f| nf::sim_compare::settling_offset(f, f.run.dwell_s),
+        },
+        Case {
+            kind: Kind::Outliers,
+            add: |f, t| {
+                f.disturbance = vec![Disturbance {
+                    from_s: t - 0.8,
+                    to_s: t + 0.8,
+                    size_dph: 0.1,
+                }]
+            },
+            size: |f| f.disturbance.iter().map(|d| d.size_dph).sum(),
+        },
+    ]
+}
+
+#[test]
+fn each_effect_left_out_of_the_simulation_is_named_and_put_back() {
+    let plain = recording(&base());
+    let dwell_20 = plain.rows[20].t_s + sim_compare::run_origin_s(&base());
+    for c in cases() {
+        let mut with = base();
+        (c.add)(&mut with, dwell_20);
+        let rec = recording(&with);
+        let s = against(&rec, &base());
+        let name = c.kind.name();
+        let p = s.physics.iter().find(|p| p.kind == c.kind);
+        let p = p.unwrap_or_else(|| panic!("{name} not named: {:?}", s.physics));
+        assert!(matches!(p.verdict, Verdict::Missing | Verdict::Different), "{name}: {:?}", p.verdict);
+        let (truth, fixed) = ((c.size)(&with), (c.size)(&s.fixed.file));
+        assert!(
+            (fixed - truth).abs() <= 0.25 * truth.abs(),
+            "{name}: fixed {fixed}, truth {truth}"
+        );
+        assert!(s.before.mismatches() >= 1, "{name}: no mismatch before");
+        assert!(
+            s.fixed.after.mismatches() <= 1,
+            "{name}: {} mismatches after the fix: {:?}",
+            s.fixed.after.mismatches(),
+            s.fixed.after.lines.iter().filter(|l| l.mismatch).collect::<Vec<_>>()
+        );
+    }
+}
+
+#[test]
+fn a_recording_of_the_simulated_instrument_lacks_nothing() {
+    let mut quiet = 0;
+    for seed in 1..=4 {
+        let mut f = base();
+        f.seed = seed;
+        let s = against(&recording(&f), &f);
+        let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict != Verdict::Modelled).collect();
+        if lacking.is_empty() && s.before.mismatches() == 0 {
+            quiet += 1;
+        }
+    }
+    assert!(quiet >= 3, "{quiet} of 4 clean");
+}
+
+#[test]
+fn flicker_noise_the_simulation_lacks_is_named_and_put_in() {
+    let mut with = base();
+    with.noise.bias_instability_dph = 0.01;
+    let s = against(&recording(&with), &base());
+    let p = s.physics.iter().find(|p| p.kind == Kind::BiasInstability);
+    assert!(p.is_some_and(|p| p.verdict == Verdict::Missing), "{:?}", s.physics);
+    assert!(s.fixed.file.noise.bias_instability_dph > 0.0);
+    assert!(s.fixed.after.mismatches() <= s.before.mismatches());
+}
