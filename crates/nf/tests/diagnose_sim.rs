@@ -121,7 +121,11 @@ fn each_effect_left_out_of_the_simulation_is_named_and_put_back() {
         let name = c.kind.name();
         let p = s.physics.iter().find(|p| p.kind == c.kind);
         let p = p.unwrap_or_else(|| panic!("{name} not named: {:?}", s.physics));
-        assert!(matches!(p.verdict, Verdict::Missing | Verdict::Different), "{name}: {:?}", p.verdict);
+        assert!(
+            matches!(p.verdict, Verdict::Missing | Verdict::Different),
+            "{name}: {:?}",
+            p.verdict
+        );
         let (truth, fixed) = ((c.size)(&with), (c.size)(&s.fixed.file));
         assert!(
             (fixed - truth).abs() <= 0.25 * truth.abs(),

@@ -318,3 +318,28 @@ impl World {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_temperature_trace_is_interpolated_and_held_beyond_its_ends() {
+        let cfg = TwinConfig {
+            temp_trace: vec![(10.0, 20.0), (20.0, 30.0), (30.0, 30.0)],
+            temp_wave: (5.0, 60.0),
+            ..TwinConfig::default()
+        };
+        let mut w = World::new(cfg);
+        let mut at = |s: f64| {
+            w.advance((s * 1e6) as u64 - w.now_us);
+            w.temperature_c()
+        };
+        assert_eq!(at(0.0), 20.0);
+        assert_eq!(at(15.0), 25.0);
+        assert_eq!(at(25.0), 30.0);
+        assert_eq!(at(100.0), 30.0);
+        let plain = World::new(TwinConfig::default());
+        assert_eq!(plain.temperature_c(), 40.0);
+    }
+}

@@ -2,15 +2,15 @@
 
 use super::noise_args::NoiseArgs;
 use super::{Fail, diagnose_sim, read_recording, write_out};
-use crate::instrument_file::InstrumentFile;
-use crate::sim_compare::{self, SimReport};
 use crate::diagnose::{Diagnosis, Options, Point, Summary, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
+use crate::instrument_file::InstrumentFile;
 use crate::noise_fit::NoiseChoice;
 use crate::plot::{self, Panel, Series, Style};
 use crate::range::above;
 use crate::recording::Recording;
 use crate::report::Page;
+use crate::sim_compare::{self, SimReport};
 use nf_model::noise::NoiseModel;
 use serde_json::{Value, json};
 use std::io::Write;
@@ -106,7 +106,10 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         None => None,
     };
     if let (Some(out), Some(s)) = (&a.fix, &sim) {
-        let head = [format!("nf diagnose --fix: {} with what {path} showed", a.sim.as_deref().unwrap_or_default())];
+        let head = [format!(
+            "nf diagnose --fix: {} with what {path} showed",
+            a.sim.as_deref().unwrap_or_default()
+        )];
         let notes: Vec<String> = head.into_iter().chain(s.fixed.changes.iter().cloned()).collect();
         write_out(&Some(out.clone()), &s.fixed.file.write(&notes))?;
     }

@@ -32,7 +32,11 @@ pub fn json(s: &SimReport) -> Value {
 }
 
 pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
-    writeln!(out, "\nagainst the simulation (replayed under the recording's plan, dwell {:.3} s):", s.dwell_s)?;
+    writeln!(
+        out,
+        "\nagainst the simulation (replayed under the recording's plan, dwell {:.3} s):",
+        s.dwell_s
+    )?;
     let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict != Verdict::Modelled).collect();
     if lacking.is_empty() {
         writeln!(out, "  the simulation has every effect the recording shows")?;
@@ -51,11 +55,14 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
     }
     writeln!(
         out,
-        "  mismatch (|z| against {} replays; * beyond the {} false-alarm bound):",
-        s.before.replays,
-        "Bonferroni"
+        "  mismatch (z against {} replays; * beyond the Bonferroni bound at the false-alarm rate):",
+        s.before.replays
     )?;
-    writeln!(out, "    {:<26} {:>13} {:>13} {:>8} {:>13} {:>8}", "quantity", "recording", "simulation", "z", "after fix", "z")?;
+    writeln!(
+        out,
+        "    {:<26} {:>13} {:>13} {:>8} {:>13} {:>8}",
+        "quantity", "recording", "simulation", "z", "after fix", "z"
+    )?;
     for l in &s.before.lines {
         let after = s.fixed.after.line(l.quantity);
         let star = |m: bool| if m { "*" } else { " " };

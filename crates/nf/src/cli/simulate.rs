@@ -2,8 +2,8 @@
 
 use super::noise_args::NoiseArgs;
 use super::{Fail, note, write_out};
-use crate::range::{MAX_LATITUDE_DEG, above, real};
 use crate::instrument_file::{EncoderError, InstrumentFile, Noise, Site};
+use crate::range::{MAX_LATITUDE_DEG, above, real};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
@@ -106,10 +106,12 @@ fn from_flags(a: &SimArgs) -> Result<InstrumentFile, Fail> {
     Order::parse(&a.order)
         .and_then(|o| o.check(a.n))
         .map_err(|e| Fail(format!("--order: {e}"), 2))?;
-    let mut f = InstrumentFile::default();
-    f.site = Site {
-        latitude_deg: a.lat,
-        azimuth_deg: a.psi,
+    let mut f = InstrumentFile {
+        site: Site {
+            latitude_deg: a.lat,
+            azimuth_deg: a.psi,
+        },
+        ..InstrumentFile::default()
     };
     f.gyro.bias_dph = a.bias;
     f.gyro.scale = a.scale;
@@ -143,7 +145,10 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     let mut file = match &a.config {
         Some(path) => {
             if a.noise_terms.any() {
-                return Err(Fail("--config holds the noise model: give no noise flags with it".into(), 2));
+                return Err(Fail(
+                    "--config holds the noise model: give no noise flags with it".into(),
+                    2,
+                ));
             }
             InstrumentFile::read(path).map_err(|e| Fail(e, 2))?
         }

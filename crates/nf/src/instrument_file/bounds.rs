@@ -8,8 +8,8 @@ macro_rules! real {
         $(#[$doc])*
         pub fn $name<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
             let v = f64::deserialize(d)?;
-            // NaN fails both comparisons.
-            if v >= $lo && v <= $hi {
+            // NaN is in no range.
+            if ($lo..=$hi).contains(&v) {
                 Ok(v)
             } else {
                 Err(D::Error::custom(format!(
@@ -34,7 +34,12 @@ macro_rules! whole {
     };
 }
 
-real!(latitude, -crate::range::MAX_LATITUDE_DEG, crate::range::MAX_LATITUDE_DEG, "deg");
+real!(
+    latitude,
+    -crate::range::MAX_LATITUDE_DEG,
+    crate::range::MAX_LATITUDE_DEG,
+    "deg"
+);
 real!(angle, -360.0, 360.0, "deg");
 real!(turn, 0.0, 360.0, "deg");
 real!(small_angle, -10.0, 10.0, "deg");

@@ -6,8 +6,8 @@ mod bounds;
 mod sections;
 
 pub use sections::{
-    Disturbance, Drift, Encoder, EncoderError, Gyro, Inclinometer, Jump, Motor, Noise, Run,
-    Settling, Shaft, Site, Temperature,
+    Disturbance, Drift, Encoder, EncoderError, Gyro, Inclinometer, Jump, Motor, Noise, Run, Settling, Shaft, Site,
+    Temperature,
 };
 
 use crate::textfile::{Error, err};
@@ -96,11 +96,7 @@ impl InstrumentFile {
             let at = text.lines().nth(line.saturating_sub(1)).unwrap_or("").trim();
             Error {
                 line,
-                what: if line == 0 {
-                    what
-                } else {
-                    format!("`{at}`: {what}")
-                },
+                what: if line == 0 { what } else { format!("`{at}`: {what}") },
             }
         })?;
         f.check(text)?;
@@ -126,7 +122,10 @@ impl InstrumentFile {
             );
         }
         if let Err(e) = self.noise.model().validate() {
-            return err(line_of(text, "gm_sigma_dph").max(line_of(text, "student_t_dof")), format!("[noise]: {e}"));
+            return err(
+                line_of(text, "gm_sigma_dph").max(line_of(text, "student_t_dof")),
+                format!("[noise]: {e}"),
+            );
         }
         if let Err(e) = self.order().and_then(|o| o.check(self.run.positions).map(|()| o)) {
             return err(line_of(text, "order"), format!("[run] order `{}`: {e}", self.run.order));
@@ -134,13 +133,19 @@ impl InstrumentFile {
         if self.encoder.error.len() > ENCODER_TERMS {
             return err(
                 line_of(text, "harmonic"),
-                format!("{} [[encoder.error]] terms: the twin has {ENCODER_TERMS}", self.encoder.error.len()),
+                format!(
+                    "{} [[encoder.error]] terms: the twin has {ENCODER_TERMS}",
+                    self.encoder.error.len()
+                ),
             );
         }
         if let Some(d) = self.disturbance.iter().find(|d| d.to_s <= d.from_s) {
             return err(
                 line_of(text, "to_s"),
-                format!("a disturbance from {} s to {} s ends before it begins", d.from_s, d.to_s),
+                format!(
+                    "a disturbance from {} s to {} s ends before it begins",
+                    d.from_s, d.to_s
+                ),
             );
         }
         Ok(())
@@ -182,7 +187,11 @@ impl InstrumentFile {
             bias_drift2_dph_per_s2: self.drift.quadratic_dph_per_s2,
             bias_jump: self.jump.map(|j| (j.time_s, j.size_dph)),
             nonlinearity_per_dph: self.gyro.nonlinearity_per_dph,
-            disturbances: self.disturbance.iter().map(|d| (d.from_s, d.to_s, d.size_dph)).collect(),
+            disturbances: self
+                .disturbance
+                .iter()
+                .map(|d| (d.from_s, d.to_s, d.size_dph))
+                .collect(),
             bias_temp_dph_per_c: self.temperature.bias_dph_per_c,
             temp0_c: self.temperature.start_c,
             temp_ramp_c_per_s: self.temperature.ramp_c_per_s,

@@ -313,10 +313,7 @@ pub struct Run {
     #[serde(deserialize_with = "b::sample_rate")]
     pub sample_rate_hz: u32,
     /// End the run once the running sigma reaches this, arcsec.
-    #[serde(
-        skip_serializing_if = "Option::is_none",
-        deserialize_with = "b::target_opt"
-    )]
+    #[serde(skip_serializing_if = "Option::is_none", deserialize_with = "b::target_opt")]
     pub target_arcsec: Option<f64>,
 }
 

@@ -63,8 +63,14 @@ dwell_s = 4
     );
     let f = InstrumentFile::parse(&text).unwrap();
     let t = f.twin();
-    assert_eq!((t.seed, t.instrument.latitude_deg, t.instrument.psi_deg), (9, -60.0, 200.5));
-    assert_eq!((t.instrument.bias_dph, t.instrument.scale, t.instrument.gyro_elev_deg), (-1.5, 1.001, 0.2));
+    assert_eq!(
+        (t.seed, t.instrument.latitude_deg, t.instrument.psi_deg),
+        (9, -60.0, 200.5)
+    );
+    assert_eq!(
+        (t.instrument.bias_dph, t.instrument.scale, t.instrument.gyro_elev_deg),
+        (-1.5, 1.001, 0.2)
+    );
     assert_eq!(t.nonlinearity_per_dph, 1e-4);
     assert_eq!((t.noise.arw_deg_rth, t.noise.bias_instability_dph), (0.001, 0.002));
     assert_eq!(t.bias_drift_dph_per_s, 2e-5);
@@ -139,7 +145,11 @@ fn bad_values_are_named_with_their_line() {
         ("[run]\npositions = 3\n", 3, "outside [4, 720]"),
         ("[run]\norder = \"spiral\"\n", 3, "spiral"),
         ("[run]\norder = \"opposite-pairs\"\npositions = 7\n", 3, "order"),
-        ("[[disturbance]]\nfrom_s = 5\nto_s = 4\nsize_dph = 1\n", 4, "ends before it begins"),
+        (
+            "[[disturbance]]\nfrom_s = 5\nto_s = 4\nsize_dph = 1\n",
+            4,
+            "ends before it begins",
+        ),
         ("[site\n", 2, ""),
     ];
     for (body, line, says) in cases {

@@ -50,7 +50,10 @@ pub fn compare(rec: &Profile, sims: &[Profile], alpha: f64) -> Comparison {
     let lines: Vec<Line> = rec
         .iter()
         .filter_map(|&(q, r)| {
-            let mut v: Vec<f64> = sims.iter().filter_map(|p| p.iter().find(|x| x.0 == q).map(|x| x.1)).collect();
+            let mut v: Vec<f64> = sims
+                .iter()
+                .filter_map(|p| p.iter().find(|x| x.0 == q).map(|x| x.1))
+                .collect();
             if v.len() < 3 {
                 return None;
             }

@@ -19,7 +19,11 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
             let q = if remove { 0.0 } else { v("rate_dph_per_s2") };
             file.drift.quadratic_dph_per_s2 = q;
             // The diagnosis gives the slope at the run's middle.
-            file.drift.linear_dph_per_s = if remove { 0.0 } else { v("rate_dph_per_s") - 2.0 * q * (middle_s(rec) + origin_s) };
+            file.drift.linear_dph_per_s = if remove {
+                0.0
+            } else {
+                v("rate_dph_per_s") - 2.0 * q * (middle_s(rec) + origin_s)
+            };
         }
         Kind::BiasJump => {
             file.jump = (!remove).then(|| Jump {
@@ -77,7 +81,15 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
         }
         Kind::BiasInstability | Kind::RateRandomWalk | Kind::Unexplained => return String::new(),
     }
-    format!("{}: {}", p.kind.name(), if remove { "removed" } else { "set to the recording's fit" })
+    format!(
+        "{}: {}",
+        p.kind.name(),
+        if remove {
+            "removed"
+        } else {
+            "set to the recording's fit"
+        }
+    )
 }
 
 /// Quarter k's mean of `exp(-t / tau)` less the dwell's, the move ending `settle_s` before.
@@ -117,7 +129,10 @@ pub fn settling_fit(rec: &Recording, settle_s: f64, dwell_s: f64) -> Option<(f64
 
 /// The noise quantities of a profile.
 fn is_noise(q: Quantity) -> bool {
-    matches!(q, Quantity::ResidualSd | Quantity::Allan(_) | Quantity::QuarterSd | Quantity::SampleSd)
+    matches!(
+        q,
+        Quantity::ResidualSd | Quantity::Allan(_) | Quantity::QuarterSd | Quantity::SampleSd
+    )
 }
 
 /// RMS (C) by which the file's temperature may miss the recording's before the file takes
@@ -126,17 +141,26 @@ const TEMP_TOLERANCE_C: f64 = 0.1;
 
 /// The recording's temperature as a ramp, where the file's misses it.
 fn temperature(f: &mut InstrumentFile, rec: &Recording, origin_s: f64) -> Option<String> {
-    let temp: Vec<(f64, f64)> = rec.rows.iter().filter_map(|r| Some((r.t_s + origin_s, r.temp_c?))).collect();
+    let temp: Vec<(f64, f64)> = rec
+        .rows
+        .iter()
+        .filter_map(|r| Some((r.t_s + origin_s, r.temp_c?)))
+        .collect();
     let n = temp.len() as f64;
     let t = &f.temperature;
-    let model = |s: f64| t.start_c + t.ramp_c_per_s * s + t.swing_c * (std::f64::consts::TAU * s / t.swing_period_s).sin();
+    let model =
+        |s: f64| t.start_c + t.ramp_c_per_s * s + t.swing_c * (std::f64::consts::TAU * s / t.swing_period_s).sin();
     let miss = (temp.iter().map(|p| (p.1 - model(p.0)).powi(2)).sum::<f64>() / n).sqrt();
     if temp.len() < 2 || miss <= TEMP_TOLERANCE_C {
         return None;
     }
     let (mt, mc) = temp.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
     let sxx: f64 = temp.iter().map(|p| (p.0 - mt).powi(2)).sum();
-    let slope = if sxx > 0.0 { temp.iter().map(|p| (p.0 - mt) * (p.1 - mc)).sum::<f64>() / sxx } else { 0.0 };
+    let slope = if sxx > 0.0 {
+        temp.iter().map(|p| (p.0 - mt) * (p.1 - mc)).sum::<f64>() / sxx
+    } else {
+        0.0
+    };
     f.temperature.ramp_c_per_s = slope.clamp(-1.0, 1.0);
     f.temperature.start_c = (mc - slope * mt).clamp(-60.0, 125.0);
     f.temperature.swing_c = 0.0;
@@ -157,7 +181,10 @@ pub fn effects(
     let mut f = file.clone();
     let mut notes = Vec::new();
     if (rec.latitude_deg - f.site.latitude_deg).abs() > 1e-9 {
-        notes.push(format!("latitude: {} -> {} (the recording's)", f.site.latitude_deg, rec.latitude_deg));
+        notes.push(format!(
+            "latitude: {} -> {} (the recording's)",
+            f.site.latitude_deg, rec.latitude_deg
+        ));
         f.site.latitude_deg = rec.latitude_deg;
     }
     if let Some(n) = temperature(&mut f, rec, origin_s) {
@@ -190,7 +217,11 @@ pub fn moments(
         let tails = f.noise.student_t_dof;
         f.noise = Noise::of(&noise_of(diag));
         f.noise.student_t_dof = tails;
-        let how = if noise_of(diag) == diag.noise_model { "" } else { ", made with the drift in the design" };
+        let how = if noise_of(diag) == diag.noise_model {
+            ""
+        } else {
+            ", made with the drift in the design"
+        };
         notes.push(format!("noise: the recording's estimate ({}{how})", diag.noise_source));
     }
     let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));

@@ -58,10 +58,9 @@ pub fn settling_offset(file: &InstrumentFile, dwell_s: f64) -> f64 {
 
 /// The run's middle time, s (where the diagnosis takes the drift's slope).
 pub fn middle_s(rec: &Recording) -> f64 {
-    let (lo, hi) = rec
-        .rows
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| (lo.min(r.t_s), hi.max(r.t_s)));
+    let (lo, hi) = rec.rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+        (lo.min(r.t_s), hi.max(r.t_s))
+    });
     (lo + hi) / 2.0
 }
 
@@ -86,7 +85,12 @@ fn simulated(
         Kind::ShaftTilt => ("tilt_deg", file.shaft.tilt_deg),
         Kind::EncoderError => (
             "amplitude_arcsec",
-            file.encoder.error.iter().filter(|e| e.harmonic == harmonic).map(|e| e.amplitude_arcsec).fold(0.0, |a, b| a + b),
+            file.encoder
+                .error
+                .iter()
+                .filter(|e| e.harmonic == harmonic)
+                .map(|e| e.amplitude_arcsec)
+                .fold(0.0, |a, b| a + b),
         ),
         Kind::ScaleFactor => ("scale", file.gyro.scale),
         Kind::Nonlinearity => ("k2_per_dph", file.gyro.nonlinearity_per_dph),
@@ -95,7 +99,12 @@ fn simulated(
             let t = param(found, "index")
                 .and_then(|i| rec.rows.iter().find(|r| r.index as f64 == i.value))
                 .map_or(f64::NAN, |r| r.t_s + origin_s);
-            let size = file.disturbance.iter().filter(|d| (d.from_s..d.to_s).contains(&t)).map(|d| d.size_dph).fold(0.0, |a, b| a + b);
+            let size = file
+                .disturbance
+                .iter()
+                .filter(|d| (d.from_s..d.to_s).contains(&t))
+                .map(|d| d.size_dph)
+                .fold(0.0, |a, b| a + b);
             ("size_dph", size)
         }
         Kind::BiasInstability => ("bias_instability_dph", file.noise.bias_instability_dph),
@@ -124,7 +133,11 @@ fn agrees(kind: Kind, p: &Param, found: &[Param], sim: f64) -> bool {
 /// The recording's noise: the estimate made with a drift in the design when the diagnosis
 /// found the bias moving, as a strong drift otherwise passes for a random walk.
 pub fn noise_of(diag: &Diagnosis) -> NoiseModel {
-    if diag.findings.iter().any(|f| matches!(f.effect, Kind::BiasDrift | Kind::BiasJump)) {
+    if diag
+        .findings
+        .iter()
+        .any(|f| matches!(f.effect, Kind::BiasDrift | Kind::BiasJump))
+    {
         diag.drift_model
     } else {
         diag.noise_model
@@ -143,12 +156,28 @@ fn noise_term(kind: Kind, diag: &Diagnosis, f: &Finding) -> Option<Vec<Param>> {
         return Some(f.parameters.clone());
     }
     // The finding's profile range belongs to the other model: a factor of two instead.
-    let name = if kind == Kind::BiasInstability { "bias_instability_dph" } else { "rrw_dph_rth" };
+    let name = if kind == Kind::BiasInstability {
+        "bias_instability_dph"
+    } else {
+        "rrw_dph_rth"
+    };
     (v > 0.0).then(|| {
         vec![
-            Param { name: name.into(), value: v, sigma: None },
-            Param { name: format!("{name}_lo"), value: v / 2.0, sigma: None },
-            Param { name: format!("{name}_hi"), value: v * 2.0, sigma: None },
+            Param {
+                name: name.into(),
+                value: v,
+                sigma: None,
+            },
+            Param {
+                name: format!("{name}_lo"),
+                value: v / 2.0,
+                sigma: None,
+            },
+            Param {
+                name: format!("{name}_hi"),
+                value: v * 2.0,
+                sigma: None,
+            },
         ]
     })
 }
@@ -192,7 +221,9 @@ pub fn judge(
             continue;
         }
         // A finding of the replay that the file has none of is the replay's false alarm.
-        if let Some((name, sim)) = simulated(f.effect, &f.parameters, file, rec, dwell_s, origin_s).filter(|s| s.1 != 0.0) {
+        if let Some((name, sim)) =
+            simulated(f.effect, &f.parameters, file, rec, dwell_s, origin_s).filter(|s| s.1 != 0.0)
+        {
             out.push(Physics {
                 kind: f.effect,
                 verdict: Verdict::OnlyInSimulation,

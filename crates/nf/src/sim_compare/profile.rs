@@ -74,7 +74,10 @@ pub type Profile = Vec<(Quantity, f64)>;
 
 fn harmonic_cols(gamma: &[f64], k: u8) -> [Vec<f64>; 2] {
     let arg = |g: &f64| (k as f64 * g).to_radians();
-    [gamma.iter().map(|g| arg(g).cos()).collect(), gamma.iter().map(|g| arg(g).sin()).collect()]
+    [
+        gamma.iter().map(|g| arg(g).cos()).collect(),
+        gamma.iter().map(|g| arg(g).sin()).collect(),
+    ]
 }
 
 fn mean(x: &[f64]) -> f64 {
@@ -113,7 +116,11 @@ pub fn profile(rec: &Recording) -> Option<Profile> {
         p.push((Quantity::Harmonic(*k), f.coef[3 + 2 * i].hypot(f.coef[4 + 2 * i])));
     }
     p.push((Quantity::ResidualSd, f.s2().sqrt()));
-    let step = if t.len() > 1 { (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64 } else { 1.0 };
+    let step = if t.len() > 1 {
+        (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64
+    } else {
+        1.0
+    };
     for pt in allan::oavar(&[&f.resid], step, &[1, 4, 16]) {
         if pt.avar.is_finite() && pt.clusters >= 8 {
             p.push((Quantity::Allan(pt.m as u32), pt.avar.sqrt()));
@@ -134,7 +141,10 @@ pub fn profile(rec: &Recording) -> Option<Profile> {
     if !sds.is_empty() {
         p.push((Quantity::SampleSd, mean(&sds)));
     }
-    let tilt: Vec<(f64, f64)> = rows.iter().filter_map(|r| Some((r.encoder_deg, r.tilt_x_deg?))).collect();
+    let tilt: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|r| Some((r.encoder_deg, r.tilt_x_deg?)))
+        .collect();
     if let Some((amp, offset)) = (tilt.len() >= 4).then(|| circle(&tilt)).flatten() {
         p.push((Quantity::TiltCircle, amp));
         p.push((Quantity::TiltOffset, offset));

@@ -24,7 +24,11 @@ pub fn dwell_of(rec: &Recording, fallback: f64) -> f64 {
         .unwrap_or(fallback);
     let mut t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
     t.sort_by(f64::total_cmp);
-    let spacing = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min);
+    let spacing = t
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
     dwell.min(0.95 * spacing)
 }
 
@@ -96,7 +100,11 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) 
     let mut twin = file.twin();
     twin.seed = seed;
     // The temperature is the recording's, as its times and angles are.
-    twin.temp_trace = rec.rows.iter().filter_map(|r| Some((r.t_s + origin_s, r.temp_c?))).collect();
+    twin.temp_trace = rec
+        .rows
+        .iter()
+        .filter_map(|r| Some((r.t_s + origin_s, r.temp_c?)))
+        .collect();
     twin.temp_trace.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut world = World::new(twin);
     let dwell = dwell_of(rec, file.run.dwell_s);
@@ -104,24 +112,26 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) 
     let mut order: Vec<usize> = (0..rec.rows.len()).collect();
     order.sort_by(|&a, &b| rec.rows[a].t_s.total_cmp(&rec.rows[b].t_s));
     let mut rows: Vec<Option<Row>> = vec![None; rec.rows.len()];
-    let mut last_deg = f64::NAN;
+    let mut last_deg: Option<f64> = None;
     for i in order {
         let r = &rec.rows[i];
         let start_s = r.t_s + origin_s - dwell / 2.0;
         // The shaft where the encoder read the recording's angle; a move ends `settle_s`
         // before the dwell, and no move at all leaves the last settling alone.
         let shaft = (r.encoder_deg - encoder_error_deg(file, r.encoder_deg)).rem_euclid(360.0);
-        if !((shaft - last_deg).abs() <= 1e-9) {
+        if last_deg.is_none_or(|l| (shaft - l).abs() > 1e-9) {
             world.shaft_deg = shaft;
             world.last_move_end_s = start_s - file.run.settle_s;
-            last_deg = shaft;
+            last_deg = Some(shaft);
         }
         let now = world.t_s();
         if start_s > now {
             world.advance(((start_s - now) * 1e6).round() as u64);
         }
         let d = sample_dwell(&mut world, file, dwell);
-        let encoder_deg = world.encoder_counts().map_or(r.encoder_deg, |c| c as f64 / per_turn * 360.0);
+        let encoder_deg = world
+            .encoder_counts()
+            .map_or(r.encoder_deg, |c| c as f64 / per_turn * 360.0);
         let (tx, ty) = d.tilt;
         rows[i] = Some(Row {
             line: r.line,

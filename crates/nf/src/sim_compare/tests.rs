@@ -15,7 +15,12 @@ fn a_replay_keeps_the_plan_and_the_columns() {
     assert_eq!(r.rows.len(), rec.rows.len());
     for (a, b) in rec.rows.iter().zip(&r.rows) {
         assert_eq!((a.index, a.t_s), (b.index, b.t_s));
-        assert!((a.encoder_deg - b.encoder_deg).abs() < 1e-4, "{} {}", a.encoder_deg, b.encoder_deg);
+        assert!(
+            (a.encoder_deg - b.encoder_deg).abs() < 1e-4,
+            "{} {}",
+            a.encoder_deg,
+            b.encoder_deg
+        );
         assert_eq!(a.tilt_y_deg.is_some(), b.tilt_y_deg.is_some());
         assert_eq!(a.quarters_dph.is_some(), b.quarters_dph.is_some());
         assert!((a.rate_dph - b.rate_dph).abs() < 0.05, "{} {}", a.rate_dph, b.rate_dph);

@@ -1,0 +1,92 @@
+//! Instrument files through the `nf` binary: `simulate --config` and `--save-config`, and
+//! `diagnose --sim --fix` closing the loop on a recording with a drift the file lacks.
+
+mod common;
+use common::{nf, tmp};
+
+#[test]
+fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
+    let (inst, a, b) = (tmp("inst.toml"), tmp("a.csv"), tmp("b.csv"));
+    let flags = [
+        "--n",
+        "24",
+        "--dwell",
+        "0.5",
+        "--drift",
+        "1e-4",
+        "--encoder-error",
+        "20",
+        "--seed",
+        "4",
+    ];
+    let mut args = vec!["simulate", "--save-config", &inst, "-o", &a];
+    args.extend(flags);
+    let (code, _, err) = nf(&args);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = nf(&["simulate", "--config", &inst, "-o", &b]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&a).unwrap(),
+        std::fs::read_to_string(&b).unwrap()
+    );
+    let (code, _, err) = nf(&["simulate", "--config", &inst, "--lat", "10"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("cannot be used with '--lat"), "{err}");
+    let (code, _, err) = nf(&["simulate", "--config", &inst, "--bias-instability", "0.01"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--config holds the noise model"), "{err}");
+    let bad = tmp("bad.toml");
+    std::fs::write(&bad, "format = \"northfinder-instrument/1\"\n[run]\npositions = 2\n").unwrap();
+    let (code, _, err) = nf(&["simulate", "--config", &bad]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.toml:3:") && err.contains("outside [4, 720]"), "{err}");
+    let (code, _, err) = nf(&["diagnose", &a, "--sim", &bad]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.toml:3:"), "{err}");
+    let (code, _, _) = nf(&["diagnose", &a, "--fix", &tmp("x.toml")]);
+    assert_eq!(code, 2);
+}
+
+#[test]
+fn diagnose_against_a_simulation_names_what_it_lacks_and_the_fix_reproduces_the_recording() {
+    let (base, drift, rec, fixed) = (tmp("base.toml"), tmp("drift.toml"), tmp("rec.csv"), tmp("fixed.toml"));
+    let (code, _, err) = nf(&["simulate", "--save-config", &base, "--seed", "8", "-o", &tmp("x.csv")]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&base).unwrap();
+    std::fs::write(
+        &drift,
+        text.replace("linear_dph_per_s = 0.0", "linear_dph_per_s = 0.0002"),
+    )
+    .unwrap();
+    let (code, _, err) = nf(&["simulate", "--config", &drift, "-o", &rec]);
+    assert_eq!(code, 0, "{err}");
+    let svg = tmp("sim.svg");
+    let (code, out, err) = nf(&[
+        "diagnose", &rec, "--sim", &base, "--fix", &fixed, "--json", "--plot", &svg,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let s = &j["simulation"];
+    let physics = s["physics"].as_array().unwrap();
+    assert!(
+        physics
+            .iter()
+            .any(|p| p["effect"] == "bias_drift" && p["verdict"] == "Missing"),
+        "{physics:?}"
+    );
+    assert!(s["before"]["mismatches"].as_u64().unwrap() >= 1);
+    assert!(s["after"]["mismatches"].as_u64().unwrap() <= 1, "{}", s["after"]);
+    assert!(
+        std::fs::read_to_string(&svg)
+            .unwrap()
+            .contains("Allan deviation of the residuals")
+    );
+    let fixed_text = std::fs::read_to_string(&fixed).unwrap();
+    assert!(fixed_text.starts_with("# north-finder instrument") && fixed_text.contains("bias_drift"));
+    // The fixed file simulates, and the recording lacks nothing against it.
+    let (code, _, err) = nf(&["simulate", "--config", &fixed, "-o", &tmp("y.csv")]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = nf(&["diagnose", &rec, "--sim", &fixed]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!out.contains("missing from the simulation"), "{out}");
+}
