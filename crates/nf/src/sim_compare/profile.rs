@@ -21,7 +21,7 @@ pub enum Quantity {
     Harmonic(u8),
     /// Scatter left by Eq. 7 and harmonics 2 to 4, deg/h.
     ResidualSd,
-    /// Allan deviation of those residuals in time order over m positions, deg/h.
+    /// Allan deviation of those residuals in time order over m positions (1, 2, 4, ...), deg/h.
     Allan(u32),
     /// Scatter of a quarter mean about its dwell's mean, deg/h.
     QuarterSd,
@@ -121,8 +121,8 @@ pub fn profile(rec: &Recording) -> Option<Profile> {
     } else {
         1.0
     };
-    for pt in allan::oavar(&[&f.resid], step, &[1, 4, 16]) {
-        if pt.avar.is_finite() && pt.clusters >= 8 {
+    for pt in allan::oavar(&[&f.resid], step, &allan::octaves(f.resid.len())) {
+        if pt.avar.is_finite() {
             p.push((Quantity::Allan(pt.m as u32), pt.avar.sqrt()));
         }
     }
