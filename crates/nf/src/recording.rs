@@ -72,23 +72,23 @@ impl Recording {
         let col = |name: &str| head.col(name).expect("required column");
         let mut rows = Vec::new();
         let mut warnings = Vec::new();
-        let mut seen: BTreeMap<u32, (usize, Vec<&str>)> = BTreeMap::new();
+        let mut seen: BTreeMap<u32, (usize, csv::StringRecord)> = BTreeMap::new();
         for row in head.rows(text) {
             let (n, cells) = row?;
-            let num = |name: &str| number(n, name, cells[col(name)]);
+            let num = |name: &str| number(n, name, &cells[col(name)]);
             let optional = |name: &str| match head.col(name) {
-                Some(i) => optional_cell(n, name, cells[i]),
+                Some(i) => optional_cell(n, name, &cells[i]),
                 None => Ok(None),
             };
             let index = num("index")?;
             if index < 0.0 || index.fract() != 0.0 || index > u32::MAX as f64 {
                 return err(
                     n,
-                    format!("index '{}' is not a whole number from 0", cells[col("index")]),
+                    format!("index '{}' is not a whole number from 0", &cells[col("index")]),
                 );
             }
             match seen.get(&(index as u32)) {
-                Some((first, c)) if *c == cells => {
+                Some((first, c)) if c.iter().eq(cells.iter()) => {
                     warnings.push(Error {
                         line: n,
                         what: format!("repeats line {first} exactly (index {index}): the copy is dropped"),

@@ -76,8 +76,8 @@ impl StaticLog {
         let mut temp_span_c: Option<(f64, f64)> = None;
         for row in head.rows(text) {
             let (n, cells) = row?;
-            let t = number(n, "t_s", cells[ct])?;
-            let r = number(n, "rate_dph", cells[cr])?;
+            let t = number(n, "t_s", &cells[ct])?;
+            let r = number(n, "rate_dph", &cells[cr])?;
             if let Some(&prev) = t_s.last()
                 && t <= prev
             {
@@ -90,7 +90,7 @@ impl StaticLog {
                 );
             }
             if let Some(c) = ctemp
-                && let Some(v) = optional(n, "temp_c", cells[c])?
+                && let Some(v) = optional(n, "temp_c", &cells[c])?
             {
                 temp_span_c = Some(temp_span_c.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
             }

@@ -41,14 +41,6 @@ pub fn err<T>(line: usize, what: impl Into<String>) -> Result<T, Error> {
     })
 }
 
-pub fn unquote(s: &str) -> &str {
-    let s = s.trim();
-    s.strip_prefix('"')
-        .and_then(|s| s.strip_suffix('"'))
-        .unwrap_or(s)
-        .trim()
-}
-
 /// The metadata and the header line of a CSV file.
 #[derive(Debug, Clone)]
 pub struct Head<'a> {
@@ -59,8 +51,8 @@ pub struct Head<'a> {
     /// Line number of the header (from 1).
     pub line: usize,
     pub header: &'a str,
-    pub names: Vec<&'a str>,
-    col: BTreeMap<&'a str, usize>,
+    pub names: Vec<String>,
+    col: BTreeMap<String, usize>,
 }
 
 impl<'a> Head<'a> {
@@ -105,10 +97,14 @@ impl<'a> Head<'a> {
         line: usize,
         header: &'a str,
     ) -> Result<Head<'a>, Error> {
-        let names: Vec<&str> = header.split(',').map(unquote).collect();
+        let names: Vec<String> = match reader(header.as_bytes()).records().next() {
+            Some(Ok(r)) => r.iter().map(String::from).collect(),
+            Some(Err(e)) => return err(line, format!("the header is not CSV: {e}")),
+            None => Vec::new(),
+        };
         let mut col = BTreeMap::new();
         for (i, name) in names.iter().enumerate() {
-            if !name.is_empty() && col.insert(*name, i).is_some() {
+            if !name.is_empty() && col.insert(name.clone(), i).is_some() {
                 return err(line, format!("column '{name}' appears twice"));
             }
         }
@@ -154,22 +150,76 @@ impl<'a> Head<'a> {
         self.col.get(name).copied()
     }
 
-    /// The data lines after the header as `(line number, cells)`; blank and `#` lines skipped.
-    pub fn rows(&self, text: &'a str) -> impl Iterator<Item = Result<(usize, Vec<&'a str>), Error>> {
+    /// The data records after the header as `(line number, cells)`, by the `csv` crate
+    /// (quoted fields, fields trimmed); blank and `#` lines skipped.
+    pub fn rows(&self, text: &'a str) -> impl Iterator<Item = Result<(usize, csv::StringRecord), Error>> {
         let width = self.names.len();
-        text.lines()
-            .enumerate()
-            .skip(self.line)
-            .map(|(i, l)| (i + 1, l.trim()))
-            .filter(|(_, t)| !t.is_empty() && !t.starts_with('#'))
-            .map(move |(n, t)| {
-                let cells: Vec<&str> = t.split(',').map(unquote).collect();
-                if cells.len() == width {
-                    Ok((n, cells))
-                } else {
-                    err(n, format!("{} fields, the header has {width}", cells.len()))
+        // The byte where the line after the header starts.
+        let start = text
+            .match_indices('\n')
+            .nth(self.line - 1)
+            .map_or(text.len(), |(i, _)| i + 1);
+        let data = &text[start..];
+        // Lines from the byte offsets (the crate's own line count skips comment lines).
+        let (mut at, mut line) = (0usize, self.line + 1);
+        let mut line_of = move |byte: u64| {
+            // A record's position is where the reader began, before the comment and blank
+            // lines it skipped.
+            let mut b = (byte as usize).min(data.len());
+            while let Some(end) = data[b..].find('\n') {
+                let l = data[b..b + end].trim();
+                if !(l.is_empty() || l.starts_with('#')) {
+                    break;
                 }
-            })
+                b += end + 1;
+            }
+            if b >= at {
+                line += data.as_bytes()[at..b].iter().filter(|&&c| c == b'\n').count();
+                at = b;
+            }
+            line
+        };
+        reader(data.as_bytes()).into_records().map(move |r| {
+            let r = r.map_err(|e| Error {
+                line: e.position().map_or(0, |p| line_of(p.byte())),
+                what: format!("not a CSV record: {}", e.kind_text()),
+            })?;
+            let n = r.position().map_or(0, |p| line_of(p.byte()));
+            if r.len() == width {
+                Ok((n, r))
+            } else {
+                err(n, format!("{} fields, the header has {width}", r.len()))
+            }
+        })
+    }
+}
+
+/// The project's CSV dialect: commas, `"` quotes, `#` comment lines, fields trimmed, any
+/// number of fields per line (checked by the caller, who can say which line). Lines end at
+/// `\n` (a `\r` before it is trimmed), as `str::lines` has them for the metadata.
+fn reader(bytes: &[u8]) -> csv::Reader<&[u8]> {
+    csv::ReaderBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(bytes)
+}
+
+/// What went wrong in a CSV record, without the crate's own position (the caller gives the
+/// file's line).
+trait KindText {
+    fn kind_text(&self) -> String;
+}
+
+impl KindText for csv::Error {
+    fn kind_text(&self) -> String {
+        match self.kind() {
+            csv::ErrorKind::Utf8 { err, .. } => format!("invalid UTF-8 in field {}", err.field() + 1),
+            csv::ErrorKind::Io(e) => e.to_string(),
+            _ => self.to_string(),
+        }
     }
 }
 
@@ -205,7 +255,8 @@ mod tests {
         assert_eq!((h.col("rate_dph"), h.col("temp_c")), (Some(1), None));
         assert!(h.require_format("x/1").is_ok() && h.require_format("y/1").is_err());
         let rows: Vec<_> = h.rows(text).collect();
-        assert_eq!(rows[0], Ok((5, vec!["1", "2"])));
+        let (n, r) = rows[0].as_ref().unwrap();
+        assert_eq!((*n, r.iter().collect::<Vec<_>>()), (5, vec!["1", "2"]));
         assert_eq!(rows[1].as_ref().unwrap_err().line, 7);
         assert_eq!(h.require_columns(&["t_s", "q"]).unwrap_err().line, 4);
         assert_eq!(Head::parse("# a = 1\n# a = 2\nx\n").unwrap_err().line, 2);
@@ -226,5 +277,15 @@ mod tests {
             .at("f.csv"),
             "f.csv:2: bad"
         );
+    }
+
+    #[test]
+    fn quoted_fields_keep_their_commas_and_lines_count_past_comments() {
+        let text = "# format = x/1\n\"t_s\",\"note, free\",rate_dph\n1,\"a, b\",2\n\n# c\n\n3,\"say \"\"hi\"\"\",4\n";
+        let h = Head::parse(text).unwrap();
+        assert_eq!(h.names, ["t_s", "note, free", "rate_dph"]);
+        let rows: Vec<_> = h.rows(text).map(Result::unwrap).collect();
+        assert_eq!((rows[0].0, &rows[0].1[1]), (3, "a, b"));
+        assert_eq!((rows[1].0, &rows[1].1[1]), (7, "say \"hi\""));
     }
 }
