@@ -45,10 +45,10 @@ pub(crate) fn c<F: Float>(x: f64) -> F {
 #[inline]
 pub fn sqrt<F: Float>(x: F) -> F {
     #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
-    if is_f32::<F>() {
-        if let Some(v) = x.to_f32() {
-            return F::from(vsqrt(v)).unwrap_or_else(F::nan);
-        }
+    if is_f32::<F>()
+        && let Some(v) = x.to_f32()
+    {
+        return F::from(vsqrt(v)).unwrap_or_else(F::nan);
     }
     x.sqrt()
 }
