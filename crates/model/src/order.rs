@@ -97,7 +97,7 @@ impl Order {
 
     /// A name of [`NAMES`] (case-insensitive) or a comma-separated list such as `0,36,37,1`.
     pub fn parse(s: &str) -> Result<Order, OrderError> {
-        let s = s.trim();
+        let s = s.trim_ascii();
         if let Some(i) = NAMES.iter().position(|n| n.eq_ignore_ascii_case(s)) {
             return Ok(Order::NAMED[i]);
         }
@@ -195,7 +195,7 @@ impl VisitList {
     pub fn extend(&mut self, csv: &str) -> Result<(), OrderError> {
         for word in csv.split(',') {
             let at = self.len;
-            let p = word.trim().parse().map_err(|_| OrderError::BadEntry { at })?;
+            let p = word.trim_ascii().parse().map_err(|_| OrderError::BadEntry { at })?;
             self.push(p)?;
         }
         Ok(())
