@@ -21,7 +21,7 @@ use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
-use embassy_sync::signal::Signal;
+use embassy_sync::once_lock::OnceLock;
 use embassy_time::{Delay, Instant, Timer};
 use embedded_hal_bus::spi::ExclusiveDevice;
 use heapless::String;
@@ -66,15 +66,14 @@ static TX: Channel<M, Line, 4> = Channel::new();
 /// zeroed, in .bss, where a signal of a `RunConfig` takes 624 bytes of flash for its initial
 /// value. The session refuses START while a run goes, so it never holds two.)
 static START: Channel<M, RunConfig, 1> = Channel::new();
-/// The settings are loaded: the host link may take commands.
-static LOADED: Signal<M, ()> = Signal::new();
 static ABORT: AtomicBool = AtomicBool::new(false);
 /// Counts the run's signs of life (it looks for an abort every 50 ms of moving, settling and
 /// dwelling); the watchdog is fed only while it grows or no run goes.
 static PROGRESS: AtomicU32 = AtomicU32::new(0);
 static IDLE: AtomicBool = AtomicBool::new(true);
-/// The host link's settings and state.
-static SESSION: Mutex<M, RefCell<Session>> = Mutex::new(RefCell::new(Session::new(RunConfig::DEFAULT)));
+/// The host link's settings and state, set once the saved settings are loaded. (Set at run
+/// time, it starts zeroed in .bss: a constant initial session took 752 bytes of flash.)
+static SESSION: OnceLock<Mutex<M, RefCell<Session>>> = OnceLock::new();
 /// SAVE requests: the settings to store.
 static SAVE: Channel<M, RunConfig, 1> = Channel::new();
 
@@ -157,7 +156,7 @@ async fn link_tx_task(mut tx: UartTx<'static, Async>) {
 #[embassy_executor::task]
 async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
     // Commands wait for the saved settings (bytes wait in the ring buffer meanwhile).
-    LOADED.wait().await;
+    let session = SESSION.get().await;
     let mut lines = LineAssembler::default();
     let mut chunk = [0u8; 32];
     loop {
@@ -171,7 +170,7 @@ async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
         };
         for &b in &chunk[..n] {
             let Some(event) = lines.push(b) else { continue };
-            let (action, reply) = SESSION.lock(|s| {
+            let (action, reply) = session.lock(|s| {
                 let mut s = s.borrow_mut();
                 let r = s.handle(event);
                 if r.0 == Action::Start {
@@ -184,7 +183,7 @@ async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
             });
             match action {
                 Action::Abort => ABORT.store(true, Ordering::Relaxed),
-                Action::Save => SAVE.send(SESSION.lock(|s| s.borrow().cfg)).await,
+                Action::Save => SAVE.send(session.lock(|s| s.borrow().cfg)).await,
                 // START signalled the sequencer above, under the session's lock.
                 Action::Start | Action::None => {}
             }
@@ -213,7 +212,8 @@ async fn sequencer_task(mut hw: Hw) {
         IDLE.store(false, Ordering::Relaxed);
         let report = run::run(&mut hw, &cfg, &mut HostSink).await;
         IDLE.store(true, Ordering::Relaxed);
-        let status = SESSION.lock(|s| {
+        // Set before any START: the host link takes commands only once it is.
+        let status = SESSION.get().await.lock(|s| {
             let mut s = s.borrow_mut();
             s.finished(report);
             s.status()
@@ -231,8 +231,10 @@ type Store = SettingsStore<Flash<'static>>;
 #[embassy_executor::task]
 async fn settings_task(mut store: Store) {
     let cfg = load_settings(&mut store).await;
-    SESSION.lock(|s| s.borrow_mut().cfg = cfg);
-    LOADED.signal(());
+    if SESSION.init(Mutex::new(RefCell::new(Session::new(cfg)))).is_err() {
+        // Only this task sets it, once.
+        defmt::unreachable!();
+    }
     loop {
         // Encoded before the flash is written: the task keeps the bytes, not the settings.
         let mut record = [0; settings::MAX_BYTES];
