@@ -1,7 +1,7 @@
 //! Decimal numbers in text read as fixed point: `[+-]digits[.digits]` into an integer count of
 //! `10^-decimals` units (micro-degrees, nano-units, ...). The firmware reads the host link's
 //! settings and the inclinometer's lines with this instead of `core`'s float parser, which
-//! brought some 15 KiB of tables and code to the MCU.
+//! brought some 17 KiB of tables and code to the MCU.
 //!
 //! Accepted: an optional sign, digits with at most one decimal point, and at least one digit
 //! (`5`, `-0.25`, `+.5`, `7.`). Refused: anything else, including exponents (`1e3`), `inf`
