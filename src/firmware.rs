@@ -3,7 +3,7 @@
 //! `nf-instrument`'s drivers.
 
 use crate::board::{self, GyroThermometer};
-use core::cell::{Cell, RefCell};
+use core::cell::RefCell;
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use defmt::{error, info, warn};
 use embassy_executor::{InterruptExecutor, Spawner};
@@ -21,17 +21,18 @@ use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
-use embassy_sync::signal::Signal;
+use embassy_sync::once_lock::OnceLock;
 use embassy_time::{Delay, Instant, Timer};
 use embedded_hal_bus::spi::ExclusiveDevice;
 use heapless::String;
-use nf_instrument::adc::{AdcError, Ads1256};
+use nf_instrument::adc::{self, AdcError, Ads1256};
 use nf_instrument::clock::Clock;
 use nf_instrument::encoder::{self, BissEncoder};
 use nf_instrument::inclinometer::Inclinometer;
 use nf_instrument::record::MAX_LINE;
 use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, Sink};
 use nf_instrument::session::{Action, LineAssembler, Session};
+use nf_instrument::settings;
 use nf_instrument::settings_store::SettingsStore;
 use nf_instrument::stepper::{self, StepDir};
 use static_cell::ConstStaticCell;
@@ -54,23 +55,27 @@ unsafe fn UART5() {
 }
 type M = CriticalSectionRawMutex;
 
-/// Samples from the ADC task to the sequencer: 0.25 s of buffer at 1 kHz.
-static SAMPLES: Channel<M, Result<i32, AdcError>, 256> = Channel::new();
+/// Samples (or their errors, [`adc::to_word`]) from the ADC task to the sequencer: 0.25 s of
+/// buffer at 1 kHz.
+static SAMPLES: Channel<M, i32, 256> = Channel::new();
 /// Samples the full queue turned away.
 static MISSED: AtomicU32 = AtomicU32::new(0);
-/// Lines to the host.
-static TX: Channel<M, Line, 8> = Channel::new();
-static START: Signal<M, ()> = Signal::new();
+/// Lines to the host (a full queue holds its sender back: none is lost).
+static TX: Channel<M, Line, 4> = Channel::new();
+/// START: the run's configuration as START took it. (A channel, not a signal: it starts
+/// zeroed, in .bss, where a signal of a `RunConfig` takes 624 bytes of flash for its initial
+/// value. The session refuses START while a run goes, so it never holds two.)
+static START: Channel<M, RunConfig, 1> = Channel::new();
 static ABORT: AtomicBool = AtomicBool::new(false);
 /// Counts the run's signs of life (it looks for an abort every 50 ms of moving, settling and
 /// dwelling); the watchdog is fed only while it grows or no run goes.
 static PROGRESS: AtomicU32 = AtomicU32::new(0);
 static IDLE: AtomicBool = AtomicBool::new(true);
-/// The host link's settings and state; the run's configuration as START took it.
-static SESSION: Mutex<M, RefCell<Session>> = Mutex::new(RefCell::new(Session::new(RunConfig::DEFAULT)));
+/// The host link's settings and state, set once the saved settings are loaded. (Set at run
+/// time, it starts zeroed in .bss: a constant initial session took 752 bytes of flash.)
+static SESSION: OnceLock<Mutex<M, RefCell<Session>>> = OnceLock::new();
 /// SAVE requests: the settings to store.
 static SAVE: Channel<M, RunConfig, 1> = Channel::new();
-static CONFIG: Mutex<M, Cell<RunConfig>> = Mutex::new(Cell::new(RunConfig::DEFAULT));
 
 /// embassy-time as the run logic's clock.
 #[derive(Clone, Copy)]
@@ -91,7 +96,7 @@ struct SampleQueue;
 
 impl GyroSource for SampleQueue {
     async fn next_sample(&mut self) -> Result<i32, AdcError> {
-        SAMPLES.receive().await
+        adc::from_word(SAMPLES.receive().await)
     }
 
     fn discard_pending(&mut self) {
@@ -131,7 +136,7 @@ async fn gyro_task(mut adc: Ads1256<AdcSpi, ExtiInput<'static, Async>>) {
         let s = adc.next_sample().await;
         // A full queue between dwells means nobody wants the sample; within a dwell it is a
         // loss, which the dwell reports (it resets the count when it starts).
-        if SAMPLES.try_send(s).is_err() {
+        if SAMPLES.try_send(adc::to_word(s)).is_err() {
             MISSED.fetch_add(1, Ordering::Relaxed);
         }
     }
@@ -150,6 +155,8 @@ async fn link_tx_task(mut tx: UartTx<'static, Async>) {
 /// Bytes from the host: the ring buffer keeps filling by DMA while the task works.
 #[embassy_executor::task]
 async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
+    // Commands wait for the saved settings (bytes wait in the ring buffer meanwhile).
+    let session = SESSION.get().await;
     let mut lines = LineAssembler::default();
     let mut chunk = [0u8; 32];
     loop {
@@ -163,22 +170,22 @@ async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
         };
         for &b in &chunk[..n] {
             let Some(event) = lines.push(b) else { continue };
-            let (action, reply) = SESSION.lock(|s| {
+            let (action, reply) = session.lock(|s| {
                 let mut s = s.borrow_mut();
                 let r = s.handle(event);
                 if r.0 == Action::Start {
-                    CONFIG.lock(|c| c.set(s.cfg));
+                    ABORT.store(false, Ordering::Relaxed);
+                    if START.try_send(s.cfg).is_err() {
+                        error!("host link: START while the sequencer has one pending, dropped");
+                    }
                 }
                 r
             });
             match action {
-                Action::Start => {
-                    ABORT.store(false, Ordering::Relaxed);
-                    START.signal(());
-                }
                 Action::Abort => ABORT.store(true, Ordering::Relaxed),
-                Action::Save => SAVE.send(SESSION.lock(|s| s.borrow().cfg)).await,
-                Action::None => {}
+                Action::Save => SAVE.send(session.lock(|s| s.borrow().cfg)).await,
+                // START signalled the sequencer above, under the session's lock.
+                Action::Start | Action::None => {}
             }
             for l in reply {
                 TX.send(l).await;
@@ -201,12 +208,12 @@ type Hw = Instrument<
 async fn sequencer_task(mut hw: Hw) {
     loop {
         info!("sequencer: idle, waiting for START");
-        START.wait().await;
-        let cfg = CONFIG.lock(|c| c.get());
+        let cfg = START.receive().await;
         IDLE.store(false, Ordering::Relaxed);
         let report = run::run(&mut hw, &cfg, &mut HostSink).await;
         IDLE.store(true, Ordering::Relaxed);
-        let status = SESSION.lock(|s| {
+        // Set before any START: the host link takes commands only once it is.
+        let status = SESSION.get().await.lock(|s| {
             let mut s = s.borrow_mut();
             s.finished(report);
             s.status()
@@ -219,12 +226,20 @@ async fn sequencer_task(mut hw: Hw) {
 
 type Store = SettingsStore<Flash<'static>>;
 
-/// Stores the settings on SAVE and answers when the flash is written.
+/// Loads the saved settings at boot, then stores them on SAVE and answers when the flash is
+/// written. (Loading here rather than in `main` keeps one store future in RAM, not two.)
 #[embassy_executor::task]
 async fn settings_task(mut store: Store) {
+    let cfg = load_settings(&mut store).await;
+    if SESSION.init(Mutex::new(RefCell::new(Session::new(cfg)))).is_err() {
+        // Only this task sets it, once.
+        defmt::unreachable!();
+    }
     loop {
-        let cfg = SAVE.receive().await;
-        let ok = store.save(&cfg).await;
+        // Encoded before the flash is written: the task keeps the bytes, not the settings.
+        let mut record = [0; settings::MAX_BYTES];
+        let n = settings::encode(&SAVE.receive().await, &mut record);
+        let ok = store.save_encoded(&record[..n]).await;
         let mut l = Line::new();
         match ok {
             Ok(()) => {
@@ -285,13 +300,11 @@ async fn main(spawner: Spawner) {
         board::reset_cause()
     );
     let b = board::init(p);
-    let mut store = match SettingsStore::new(b.flash, board::SETTINGS_FLASH) {
+    let store = match SettingsStore::new(b.flash, board::SETTINGS_FLASH) {
         Some(s) => s,
         // The range is a constant of the board: wrong only by a programming error.
         None => defmt::panic!("settings: the flash range is not whole sectors"),
     };
-    let cfg = load_settings(&mut store).await;
-    SESSION.lock(|s| s.borrow_mut().cfg = cfg);
     let (host_tx, host_rx) = b.host.split();
     static HOST_RX: ConstStaticCell<[u8; 256]> = ConstStaticCell::new([0; 256]);
     let host_rx = host_rx.into_ring_buffered(HOST_RX.take());

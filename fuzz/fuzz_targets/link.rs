@@ -1,15 +1,19 @@
 //! Host-link commands. On any text: no panic, and a command that parses prints back (in the
-//! link's syntax) to a line that parses to the same command. Model: commands built from the
-//! input, printed, parse back to themselves when their values are in range and are refused
-//! with `OutOfRange` when not; applied in turn to the run's configuration, each changes just
-//! its own setting, a refused one changes nothing, and an order that passes its check visits
-//! only positions below `n`.
+//! link's syntax, values in fixed point) to a line that parses to the same command. Model:
+//! commands built from the input, printed, parse back to themselves when their values are in
+//! range and are refused with `OutOfRange` when not; applied in turn to the run's
+//! configuration, each changes just its own setting, a refused one changes nothing, and an
+//! order that passes its check visits only positions below `n`.
 #![no_main]
 
 use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use nf_fuzz::link_print;
-use nf_instrument::link::{self, Command, LinkError, NoiseTerm, Setting};
+use nf_instrument::decimal::{to_f32, to_f64};
+use nf_instrument::link::{
+    self, ANGLE_DECIMALS, CAL_SCALE_DECIMALS, CAL_ZERO_DECIMALS, Command, LinkError, NOISE_DECIMALS, NoiseTerm,
+    Setting, TARGET_DECIMALS,
+};
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::order::{MAX_VISITS, Order, VisitList};
 
@@ -26,14 +30,15 @@ fn list(u: &mut Unstructured) -> Result<VisitList> {
     Ok(l)
 }
 
-/// A float that is sometimes in range, sometimes just outside it, sometimes anything.
-fn float(u: &mut Unstructured, lo: f32, hi: f32) -> Result<f32> {
+/// A fixed-point value (units of the setting's decimals) that is sometimes in range,
+/// sometimes just outside it, sometimes anything.
+fn fixed(u: &mut Unstructured, lo: i64, hi: i64) -> Result<i64> {
     Ok(match u.int_in_range(0..=5u8)? {
         0 => u.arbitrary()?,
         1 => lo,
         2 => hi,
-        3 => [lo - 1.0, hi + 1.0, f32::NAN, f32::INFINITY, -0.0][u.int_in_range(0..=4usize)?],
-        _ => lo + (hi - lo) * (u.int_in_range(0..=1_000_000u32)? as f32 / 1e6),
+        3 => [lo - 1, hi + 1, i64::MIN, i64::MAX, 0][u.int_in_range(0..=4usize)?],
+        _ => u.int_in_range(lo..=hi)?,
     })
 }
 
@@ -55,7 +60,7 @@ fn command(u: &mut Unstructured) -> Result<(Command, bool)> {
         NoiseTerm::GmSigma,
         NoiseTerm::GmTau,
     ];
-    let r = |v: f32, lo: f32, hi: f32| v >= lo && v <= hi;
+    let r = |v: i64, lo: i64, hi: i64| v >= lo && v <= hi;
     let s = match u.int_in_range(0..=18u8)? {
         0 => return Ok((Command::Start, true)),
         1 => return Ok((Command::Abort, true)),
@@ -64,12 +69,13 @@ fn command(u: &mut Unstructured) -> Result<(Command, bool)> {
         15 => return Ok((Command::Save, true)),
         16 => return Ok((Command::Defaults, true)),
         17 => {
-            let v = float(u, -8_388_608.0, 8_388_608.0)?;
-            (Setting::CalZero(v as f64), r(v, -8_388_608.0, 8_388_608.0))
+            let v = fixed(u, -8_388_608_000_000, 8_388_608_000_000)?;
+            (Setting::CalZero(v), r(v, -8_388_608_000_000, 8_388_608_000_000))
         }
         18 => {
-            let v = float(u, -1.0, 1.0)?;
-            (Setting::CalScale(v as f64), v.is_finite() && v != 0.0 && v.abs() <= 1.0)
+            let max = 1_000_000_000_000_000;
+            let v = fixed(u, -max, max)?;
+            (Setting::CalScale(v), v != 0 && r(v, -max, max))
         }
         4 => {
             let n: u16 = int(u, 4, 720)?;
@@ -84,12 +90,12 @@ fn command(u: &mut Unstructured) -> Result<(Command, bool)> {
             (Setting::SettleMs(v), v <= 60_000)
         }
         7 => {
-            let v = float(u, -89.0, 89.0)?;
-            (Setting::LatitudeDeg(v), r(v, -89.0, 89.0))
+            let v = fixed(u, -89_000_000, 89_000_000)?;
+            (Setting::LatitudeUdeg(v), r(v, -89_000_000, 89_000_000))
         }
         8 => {
-            let v = float(u, 0.0, 10.0)?;
-            (Setting::TiltLimitDeg(v), r(v, 0.0, 10.0))
+            let v = fixed(u, 0, 10_000_000)?;
+            (Setting::TiltLimitUdeg(v), r(v, 0, 10_000_000))
         }
         9 => (Setting::TiltRefuse(u.arbitrary()?), true),
         10 => {
@@ -102,12 +108,12 @@ fn command(u: &mut Unstructured) -> Result<(Command, bool)> {
         }
         11 => (Setting::OrderMore(list(u)?), true),
         12 => {
-            let v = float(u, 0.0, 36_000.0)?;
-            (Setting::TargetArcsec(v), r(v, 0.0, 36_000.0))
+            let v = fixed(u, 0, 36_000_000_000)?;
+            (Setting::TargetUarcsec(v), r(v, 0, 36_000_000_000))
         }
         _ => {
-            let v = float(u, 0.0, 1.0e6)?;
-            (Setting::Noise(*u.choose(&terms)?, v as f64), r(v, 0.0, 1.0e6))
+            let v = fixed(u, 0, 1_000_000_000_000_000)?;
+            (Setting::Noise(*u.choose(&terms)?, v), r(v, 0, 1_000_000_000_000_000))
         }
     };
     Ok((Command::Set(s.0), s.1))
@@ -120,14 +126,15 @@ fn model(cfg: &RunConfig, s: &Setting) -> Option<RunConfig> {
         Setting::Positions(n) => c.positions = n,
         Setting::DwellMs(v) => c.dwell_ms = v,
         Setting::SettleMs(v) => c.settle_ms = v,
-        Setting::LatitudeDeg(v) => c.latitude_deg = v,
-        Setting::TiltLimitDeg(v) => c.tilt_limit_deg = v,
+        Setting::LatitudeUdeg(v) => c.latitude_deg = to_f32(v, ANGLE_DECIMALS),
+        Setting::TiltLimitUdeg(v) => c.tilt_limit_deg = to_f32(v, ANGLE_DECIMALS),
         Setting::TiltRefuse(r) => c.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
         Setting::Order(o) => c.order = o,
-        Setting::TargetArcsec(v) => c.target_arcsec = v,
-        Setting::CalZero(v) => c.calibration.zero_counts = v,
-        Setting::CalScale(v) => c.calibration.dph_per_count = v,
+        Setting::TargetUarcsec(v) => c.target_arcsec = to_f32(v, TARGET_DECIMALS),
+        Setting::CalZero(v) => c.calibration.zero_counts = to_f64(v, CAL_ZERO_DECIMALS),
+        Setting::CalScale(v) => c.calibration.dph_per_count = to_f64(v, CAL_SCALE_DECIMALS),
         Setting::Noise(t, v) => {
+            let v = to_f64(v, NOISE_DECIMALS);
             let m = &mut c.noise;
             match t {
                 NoiseTerm::Arw => m.arw_deg_rth = v,

@@ -93,6 +93,43 @@ pub fn is_saturated(sample: i32) -> bool {
     sample >= CODE_MAX || sample <= CODE_MIN
 }
 
+/// Errors in a sample word: below every 24-bit code.
+const WORD_BUS: i32 = i32::MIN;
+const WORD_DRDY_TIMEOUT: i32 = i32::MIN + 1;
+/// Plus `register << 16 | wrote << 8 | read`.
+const WORD_READBACK: i32 = i32::MIN + (1 << 24);
+
+/// A sample or its error in one word, for a queue between an ADC task and the run: half the
+/// RAM of a `Result<i32, AdcError>`. Samples are 24-bit codes (one beyond them is clamped to
+/// full scale, which still reads as saturated); errors take words below `-2^24`.
+pub fn to_word(sample: Result<i32, AdcError>) -> i32 {
+    match sample {
+        Ok(s) => s.clamp(CODE_MIN, CODE_MAX),
+        Err(AdcError::Bus) => WORD_BUS,
+        Err(AdcError::DrdyTimeout) => WORD_DRDY_TIMEOUT,
+        Err(AdcError::Readback { register, wrote, read }) => {
+            WORD_READBACK + ((register as i32) << 16 | (wrote as i32) << 8 | read as i32)
+        }
+    }
+}
+
+/// The sample or error that [`to_word`] made `word` of; a word it cannot make is a bus error.
+pub fn from_word(word: i32) -> Result<i32, AdcError> {
+    match word {
+        CODE_MIN..=CODE_MAX => Ok(word),
+        WORD_DRDY_TIMEOUT => Err(AdcError::DrdyTimeout),
+        w if (WORD_READBACK..WORD_READBACK + (1 << 24)).contains(&w) => {
+            let b = (w - WORD_READBACK).to_be_bytes();
+            Err(AdcError::Readback {
+                register: b[1],
+                wrote: b[2],
+                read: b[3],
+            })
+        }
+        _ => Err(AdcError::Bus),
+    }
+}
+
 impl<SPI: SpiDevice, DRDY: Wait> Ads1256<SPI, DRDY> {
     pub fn new(spi: SPI, drdy: DRDY) -> Self {
         Ads1256 { spi, drdy }
@@ -168,6 +205,39 @@ mod tests {
     use embedded_hal_mock::eh1::digital::{Edge, Mock as Pin, State, Transaction as PinT};
     use embedded_hal_mock::eh1::spi::{Mock as Spi, Transaction as SpiT};
     use std::vec;
+
+    #[test]
+    fn samples_and_errors_travel_in_one_word() {
+        let all = [
+            Ok(0),
+            Ok(-1),
+            Ok(CODE_MAX),
+            Ok(CODE_MIN),
+            Ok(0x123456),
+            Err(AdcError::Bus),
+            Err(AdcError::DrdyTimeout),
+            Err(AdcError::Readback {
+                register: 1,
+                wrote: 1,
+                read: 255,
+            }),
+            Err(AdcError::Readback {
+                register: 255,
+                wrote: 0,
+                read: 0,
+            }),
+        ];
+        for s in all {
+            assert_eq!(from_word(to_word(s)), s, "{s:?}");
+        }
+        // Beyond 24 bits: full scale, saturated as the run sees it.
+        assert_eq!(from_word(to_word(Ok(1 << 24))), Ok(CODE_MAX));
+        assert_eq!(from_word(to_word(Ok(-(1 << 30)))), Ok(CODE_MIN));
+        // Words no sample or error makes: a bus error, not a sample.
+        for w in [CODE_MIN - 1, CODE_MAX + 1, i32::MAX, -(1 << 24) - 5] {
+            assert_eq!(from_word(w), Err(AdcError::Bus), "{w}");
+        }
+    }
 
     #[test]
     fn sign_extension_and_saturation() {

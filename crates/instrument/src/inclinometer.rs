@@ -6,6 +6,7 @@
 //! or fail the checksum, and gives up after a timeout.
 
 use crate::clock::{Clock, with_timeout};
+use crate::decimal;
 use core::fmt::Write as _;
 use embedded_io_async::{Read, Write};
 
@@ -57,26 +58,39 @@ pub fn format_line(x_deg: f32, y_deg: f32) -> heapless::String<MAX_LINE> {
 }
 
 /// Parses one line (without the line end); `None` if it is not a valid answer.
+///
+/// The elevations are plain decimals (`+0.01234`; no exponent), read in fixed point to
+/// micro-degrees ([`crate::decimal`]): the firmware carries no float parser.
 pub fn parse_line(line: &[u8]) -> Option<(f32, f32)> {
     let line = line.strip_prefix(b"$")?;
     let star = line.iter().position(|&b| b == b'*')?;
     let (body, sum) = (&line[..star], &line[star + 1..]);
-    let sum = core::str::from_utf8(sum).ok()?.trim_end();
-    if sum.len() != 2 || u8::from_str_radix(sum, 16).ok()? != checksum(body) {
+    let sum = sum.trim_ascii_end();
+    if sum.len() != 2 || u8::from_str_radix(core::str::from_utf8(sum).ok()?, 16).ok()? != checksum(body) {
         return None;
     }
-    let mut fields = core::str::from_utf8(body).ok()?.split(',');
-    if fields.next()? != "TLT" {
+    let mut fields = body.split(|&b| b == b',');
+    if fields.next()? != b"TLT" {
         return None;
     }
-    let x: f32 = fields.next()?.parse().ok()?;
-    let y: f32 = fields.next()?.parse().ok()?;
-    let plausible = |v: f32| v.is_finite() && v.abs() <= MAX_ELEVATION_DEG;
-    (fields.next().is_none() && plausible(x) && plausible(y)).then_some((x, y))
+    let x = elevation_udeg(fields.next()?)?;
+    let y = elevation_udeg(fields.next()?)?;
+    fields.next().is_none().then_some((to_deg(x), to_deg(y)))
+}
+
+/// An elevation in micro-degrees, `None` if it is no number or beyond a right angle.
+fn elevation_udeg(field: &[u8]) -> Option<i64> {
+    let v = decimal::parse_fixed(field, 6).ok()?;
+    (v.unsigned_abs() <= MAX_ELEVATION_UDEG).then_some(v)
+}
+
+fn to_deg(udeg: i64) -> f32 {
+    decimal::to_f32(udeg, 6)
 }
 
 /// An axis elevation beyond a right angle is no reading: refused at the sensor, never written.
 pub const MAX_ELEVATION_DEG: f32 = 90.0;
+const MAX_ELEVATION_UDEG: u64 = 90_000_000;
 
 /// The inclinometer driver.
 pub struct Inclinometer<U> {
@@ -149,6 +163,8 @@ mod tests {
         assert!(l.starts_with("$TLT,+0.01234,-1.50000*"));
         let body = l.trim_end();
         assert_eq!(parse_line(body.as_bytes()), Some((0.01234, -1.5)));
+        assert_eq!(parse_line(b"$TLT,-90,90.0000004*7B"), Some((-90.0, 90.0)));
+        assert_eq!(parse_line(b"$TLT,43.8,.5*46\r"), Some((43.8, 0.5)));
         // Too long for a line: the line was cut after "+1097727." with a checksum of what was
         // left, and read as y = 1097727. Found by the inclinometer fuzz target.
         assert_eq!(format_line(-2.3939604e38, 1097727.8), "");
@@ -212,6 +228,23 @@ mod tests {
             "$TLT,nan,1*00",
             "$TLT,1,2,3*00",
         ] {
+            assert_eq!(parse_line(bad.as_bytes()), None, "{bad}");
+        }
+        // Fields that are no plain decimal, or beyond a right angle, with the checksum right.
+        for body in [
+            "TLT,1e-3,0",
+            "TLT,nan,0",
+            "TLT,inf,0",
+            "TLT,0,",
+            "TLT,,0",
+            "TLT,0.5.1,0",
+            "TLT,0x1,0",
+            "TLT, 0.5,0",
+            "TLT,90.0000005,0",
+            "TLT,0,-90.000001",
+            "TLT,99999999999999999999999,0",
+        ] {
+            let bad = std::format!("${body}*{:02X}", checksum(body.as_bytes()));
             assert_eq!(parse_line(bad.as_bytes()), None, "{bad}");
         }
         // Well-formed but beyond a right angle: no reading.

@@ -12,6 +12,7 @@ mod fmt;
 
 pub mod adc;
 pub mod clock;
+pub mod decimal;
 pub mod encoder;
 pub mod inclinometer;
 pub mod link;

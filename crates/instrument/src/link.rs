@@ -10,29 +10,51 @@
 //! `cal_zero` (ADC counts at zero rate) or `cal_scale` (deg/h per count);
 //! `START`; `ABORT`; `STATUS`; `CONFIG`; `SAVE` (to flash, loaded at boot); `DEFAULTS`.
 //! Replies: `OK`, `ERR <what>`, and the lines of the recording while a run goes.
+//!
+//! Numbers are plain decimals (`-33.9`, `0.0001178`; no exponent), read as fixed point
+//! ([`crate::decimal`]) to the decimals of their setting: angles to micro-degrees, the target
+//! to micro-arcseconds, noise terms to 1e-9 of their units, `cal_zero` to micro-counts and
+//! `cal_scale` to 1e-15 deg/h per count; further digits round.
 
+use crate::decimal::{self, DecimalError};
 use crate::run::{RunConfig, TiltPolicy};
 use nf_model::order::{Order, OrderError, VisitList};
 
-/// A setting the host can change.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Decimals of the latitude and the tilt limit: micro-degrees.
+pub const ANGLE_DECIMALS: u32 = 6;
+/// Decimals of the target: micro-arcseconds.
+pub const TARGET_DECIMALS: u32 = 6;
+/// Decimals of the noise terms: 1e-9 of their units.
+pub const NOISE_DECIMALS: u32 = 9;
+/// Decimals of `cal_zero`: micro-counts.
+pub const CAL_ZERO_DECIMALS: u32 = 6;
+/// Decimals of `cal_scale`: 1e-15 deg/h per count.
+pub const CAL_SCALE_DECIMALS: u32 = 15;
+
+/// A setting the host can change; values as the line gives them, in fixed point (the
+/// `*_DECIMALS` constants); [`apply`] converts them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Setting {
     Positions(u16),
     DwellMs(u32),
     SettleMs(u32),
-    LatitudeDeg(f32),
-    TiltLimitDeg(f32),
+    /// Micro-degrees.
+    LatitudeUdeg(i64),
+    /// Micro-degrees.
+    TiltLimitUdeg(i64),
     TiltRefuse(bool),
     Order(Order),
     /// More entries of a listed order.
     OrderMore(VisitList),
-    TargetArcsec(f32),
-    Noise(NoiseTerm, f64),
-    /// The ADC counts at zero rate.
-    CalZero(f64),
-    /// Degrees per hour per ADC count.
-    CalScale(f64),
+    /// Micro-arcseconds.
+    TargetUarcsec(i64),
+    /// 1e-9 of the term's unit.
+    Noise(NoiseTerm, i64),
+    /// The ADC counts at zero rate, in micro-counts.
+    CalZero(i64),
+    /// Degrees per hour per ADC count, in units of 1e-15.
+    CalScale(i64),
 }
 
 /// A term of the gyro's noise model.
@@ -56,7 +78,7 @@ const NOISE_KEYS: [(&str, NoiseTerm); 5] = [
 
 // A listed order travels inline (no allocator); the link holds one command at a time.
 #[allow(clippy::large_enum_variant)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Command {
     Set(Setting),
@@ -117,13 +139,13 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
         Setting::Positions(n) => cfg.positions = n,
         Setting::DwellMs(v) => cfg.dwell_ms = v,
         Setting::SettleMs(v) => cfg.settle_ms = v,
-        Setting::LatitudeDeg(v) => cfg.latitude_deg = v,
-        Setting::TiltLimitDeg(v) => cfg.tilt_limit_deg = v,
+        Setting::LatitudeUdeg(v) => cfg.latitude_deg = decimal::to_f32(v, ANGLE_DECIMALS),
+        Setting::TiltLimitUdeg(v) => cfg.tilt_limit_deg = decimal::to_f32(v, ANGLE_DECIMALS),
         Setting::TiltRefuse(r) => cfg.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
         Setting::Order(o) => cfg.order = o,
-        Setting::TargetArcsec(v) => cfg.target_arcsec = v,
-        Setting::CalZero(v) => cfg.calibration.zero_counts = v,
-        Setting::CalScale(v) => cfg.calibration.dph_per_count = v,
+        Setting::TargetUarcsec(v) => cfg.target_arcsec = decimal::to_f32(v, TARGET_DECIMALS),
+        Setting::CalZero(v) => cfg.calibration.zero_counts = decimal::to_f64(v, CAL_ZERO_DECIMALS),
+        Setting::CalScale(v) => cfg.calibration.dph_per_count = decimal::to_f64(v, CAL_SCALE_DECIMALS),
         Setting::Noise(term, v) => {
             let m = &mut cfg.noise;
             *match term {
@@ -132,7 +154,7 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
                 NoiseTerm::Rrw => &mut m.rrw_dph_rth,
                 NoiseTerm::GmSigma => &mut m.gm_sigma_dph,
                 NoiseTerm::GmTau => &mut m.gm_tau_s,
-            } = v;
+            } = decimal::to_f64(v, NOISE_DECIMALS);
         }
         Setting::OrderMore(more) => match &mut cfg.order {
             Order::List(l) => {
@@ -151,6 +173,15 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
 
 fn num<T: core::str::FromStr>(v: &str) -> Result<T, LinkError> {
     v.parse().map_err(|_| LinkError::BadValue)
+}
+
+/// A decimal in units of `10^-decimals`, within `lo..=hi` units.
+fn fixed(v: &str, decimals: u32, lo: i64, hi: i64) -> Result<i64, LinkError> {
+    let units = decimal::parse_fixed(v.as_bytes(), decimals).map_err(|e| match e {
+        DecimalError::Syntax => LinkError::BadValue,
+        DecimalError::Overflow => LinkError::OutOfRange,
+    })?;
+    check(units, lo, hi)
 }
 
 fn check<T: PartialOrd>(v: T, lo: T, hi: T) -> Result<T, LinkError> {
@@ -176,9 +207,9 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
         } else if k("settle_ms") {
             Setting::SettleMs(check(num(val)?, 0, 60_000)?)
         } else if k("lat") {
-            Setting::LatitudeDeg(check(num(val)?, -89.0, 89.0)?)
+            Setting::LatitudeUdeg(fixed(val, ANGLE_DECIMALS, -89_000_000, 89_000_000)?)
         } else if k("tilt_limit") {
-            Setting::TiltLimitDeg(check(num(val)?, 0.0, 10.0)?)
+            Setting::TiltLimitUdeg(fixed(val, ANGLE_DECIMALS, 0, 10_000_000)?)
         } else if k("tilt_policy") {
             match val {
                 v if v.eq_ignore_ascii_case("refuse") => Setting::TiltRefuse(true),
@@ -186,19 +217,19 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
                 _ => return Err(LinkError::BadValue),
             }
         } else if k("cal_zero") {
-            Setting::CalZero(check(num::<f32>(val)?, -8_388_608.0, 8_388_608.0)? as f64)
+            const MAX: i64 = 8_388_608_000_000;
+            Setting::CalZero(fixed(val, CAL_ZERO_DECIMALS, -MAX, MAX)?)
         } else if k("cal_scale") {
-            let v: f32 = num(val)?;
-            if !(v.is_finite() && v != 0.0 && v.abs() <= 1.0) {
-                return Err(LinkError::OutOfRange);
+            // Not zero: 1e-15 deg/h per count and more, up to 1 deg/h per count either way.
+            const MAX: i64 = 1_000_000_000_000_000;
+            match fixed(val, CAL_SCALE_DECIMALS, -MAX, MAX)? {
+                0 => return Err(LinkError::OutOfRange),
+                v => Setting::CalScale(v),
             }
-            Setting::CalScale(v as f64)
         } else if k("target_arcsec") {
-            Setting::TargetArcsec(check(num(val)?, 0.0, 36_000.0)?)
+            Setting::TargetUarcsec(fixed(val, TARGET_DECIMALS, 0, 36_000_000_000)?)
         } else if let Some(&(_, term)) = NOISE_KEYS.iter().find(|(name, _)| k(name)) {
-            // Parsed as f32: the firmware carries no f64 parser for seven significant digits.
-            let v: f32 = num(val)?;
-            Setting::Noise(term, check(v, 0.0, 1.0e6)? as f64)
+            Setting::Noise(term, fixed(val, NOISE_DECIMALS, 0, 1_000_000_000_000_000)?)
         } else if k("order") {
             Setting::Order(Order::parse(val).map_err(LinkError::Order)?)
         } else if k("order+") {
@@ -237,7 +268,14 @@ mod tests {
     #[test]
     fn commands() {
         assert_eq!(parse("set n 72"), Ok(Command::Set(Setting::Positions(72))));
-        assert_eq!(parse("SET lat -33.9\r"), Ok(Command::Set(Setting::LatitudeDeg(-33.9))));
+        assert_eq!(
+            parse("SET lat -33.9\r"),
+            Ok(Command::Set(Setting::LatitudeUdeg(-33_900_000)))
+        );
+        assert_eq!(
+            parse("SET cal_scale 0.00000596"),
+            Ok(Command::Set(Setting::CalScale(5_960_000_000)))
+        );
         assert_eq!(
             parse("SET tilt_policy WARN"),
             Ok(Command::Set(Setting::TiltRefuse(false)))
@@ -256,6 +294,17 @@ mod tests {
         assert_eq!(parse("SET n seventy"), Err(LinkError::BadValue));
         assert_eq!(parse("SET n 3"), Err(LinkError::OutOfRange));
         assert_eq!(parse("SET lat 91"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET lat 89.0000005"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET lat 1e1"), Err(LinkError::BadValue));
+        assert_eq!(parse("SET lat 4x"), Err(LinkError::BadValue));
+        assert_eq!(parse("SET lat inf"), Err(LinkError::BadValue));
+        assert_eq!(parse("SET lat 99999999999999999999"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET tilt_limit -0.1"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET cal_zero 8388609"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET cal_scale 0"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET cal_scale 0.0000000000000004"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET cal_scale -1.5"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET target_arcsec 36000.1"), Err(LinkError::OutOfRange));
         assert_eq!(parse("SET tilt_policy maybe"), Err(LinkError::BadValue));
         assert_eq!(parse("START now"), Err(LinkError::BadValue));
         assert!(LinkError::OutOfRange.message().contains("range"));
@@ -291,12 +340,13 @@ mod tests {
                 m.gm_sigma_dph,
                 m.gm_tau_s
             ),
-            // To f32's seven digits.
-            (0.0012f32 as f64, 0.004f32 as f64, 0.3f32 as f64, 0.01f32 as f64, 60.0)
+            // Read in fixed point: the nearest f64 to each.
+            (0.0012, 0.004, 0.3, 0.01, 60.0)
         );
         assert_eq!(cfg.target_arcsec, 18.0);
         assert_eq!(parse("SET rrw -1"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET arw nan"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET arw nan"), Err(LinkError::BadValue));
+        assert_eq!(parse("SET arw 1000000.000000001"), Err(LinkError::OutOfRange));
         assert_eq!(parse("SET target_arcsec x"), Err(LinkError::BadValue));
     }
 

@@ -476,15 +476,18 @@ where
 
     async fn header(&mut self) {
         let c = self.cfg;
-        for l in [
-            record::meta("format", "northfinder-recording/1"),
-            record::meta_fixed("latitude_deg", c.latitude_deg as f64, 5),
-            record::meta_fixed("dwell_s", c.dwell_ms as f64 / 1000.0, 3),
-            record::meta("sample_rate_hz", c.sample_rate_hz),
-            record::meta("positions", c.positions),
-            record::meta("order", c.order.name()),
-            record::meta("firmware", concat!("nf-instrument ", env!("CARGO_PKG_VERSION"))),
-        ] {
+        // One line at a time: the run's future (RAM fixed at build time on the MCU) then holds
+        // one line, not seven.
+        for i in 0..7 {
+            let l = match i {
+                0 => record::meta("format", "northfinder-recording/1"),
+                1 => record::meta_fixed("latitude_deg", c.latitude_deg as f64, 5),
+                2 => record::meta_fixed("dwell_s", c.dwell_ms as f64 / 1000.0, 3),
+                3 => record::meta("sample_rate_hz", c.sample_rate_hz),
+                4 => record::meta("positions", c.positions),
+                5 => record::meta("order", c.order.name()),
+                _ => record::meta("firmware", concat!("nf-instrument ", env!("CARGO_PKG_VERSION"))),
+            };
             self.sink.line(&l).await;
         }
         self.sink.line(HEADER).await;

@@ -37,7 +37,7 @@ pub fn encode(cfg: &RunConfig, out: &mut [u8; MAX_BYTES]) -> usize {
                 w.put(&p.to_le_bytes());
             }
         }
-        named => w.put(&[Order::NAMED.iter().position(|o| *o == named).unwrap_or(0) as u8]),
+        named => w.put(&[named.named_index().unwrap_or(0) as u8]),
     }
     for v in [cfg.dwell_ms, cfg.settle_ms, cfg.sample_rate_hz] {
         w.put(&v.to_le_bytes());
@@ -88,7 +88,7 @@ pub fn decode(bytes: &[u8]) -> Result<RunConfig, SettingsError> {
             }
             Order::List(l)
         }
-        k => *Order::NAMED.get(k as usize).ok_or(SettingsError::Invalid("order"))?,
+        k => Order::named(k as usize).ok_or(SettingsError::Invalid("order"))?,
     };
     let (dwell_ms, settle_ms, sample_rate_hz) = (r.u32()?, r.u32()?, r.u32()?);
     let (latitude_deg, tilt_limit_deg, position_tol_deg, target_arcsec) = (r.f32()?, r.f32()?, r.f32()?, r.f32()?);

@@ -43,23 +43,31 @@ impl<S: NorFlash> SettingsStore<S> {
     pub async fn save(&mut self, cfg: &RunConfig) -> Result<(), StoreError> {
         let mut bytes = [0; MAX_BYTES];
         let n = settings::encode(cfg, &mut bytes);
-        self.queue.push(&bytes[..n], true).await.map_err(flash)
+        self.save_encoded(&bytes[..n]).await
+    }
+
+    /// Appends a record that [`settings::encode`] wrote: the caller need not keep the
+    /// `RunConfig` while the flash is written.
+    pub async fn save_encoded(&mut self, record: &[u8]) -> Result<(), StoreError> {
+        self.queue.push(record, true).await.map_err(flash)
     }
 
     /// The newest record, or `None` when nothing was saved.
     pub async fn load(&mut self) -> Result<Option<RunConfig>, StoreError> {
         let mut buf: Buffer = [0; MAX_BYTES + 16];
-        let mut newest: Option<([u8; MAX_BYTES], usize)> = None;
+        // The newest entry and its length, copied in place (the firmware runs this in a task
+        // whose RAM is fixed at build time).
+        let mut bytes = [0; MAX_BYTES];
+        let mut newest: Option<usize> = None;
         let mut it = self.queue.iter().await.map_err(flash)?;
         while let Some(entry) = it.next(&mut buf).await.map_err(flash)? {
-            let mut copy = [0; MAX_BYTES];
             let n = entry.len().min(MAX_BYTES);
-            copy[..n].copy_from_slice(&entry[..n]);
-            newest = Some((copy, entry.len()));
+            bytes[..n].copy_from_slice(&entry[..n]);
+            newest = Some(entry.len());
         }
         match newest {
             None => Ok(None),
-            Some((bytes, n)) if n <= MAX_BYTES => settings::decode(&bytes[..n]).map(Some).map_err(StoreError::Record),
+            Some(n) if n <= MAX_BYTES => settings::decode(&bytes[..n]).map(Some).map_err(StoreError::Record),
             Some(_) => Err(StoreError::Record(SettingsError::Length)),
         }
     }

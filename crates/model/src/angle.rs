@@ -64,12 +64,29 @@ pub fn atan2_deg<F: Float>(y: F, x: F) -> F {
 }
 
 /// Wraps an angle into `[0, 360)`.
+///
+/// The remainder is taken by `floor`, not `%`: on the Cortex-M4F the float remainder is 4 KiB
+/// of soft-`f64` code. It is the remainder `%` gives, but for the rounding of `r + 360` for a
+/// small negative `r` (as with `%`), wherever `q * 360` is exact: `|deg|` below `2^53` in `f64`
+/// and `2^24` in `f32`. Beyond that, where one unit in the last place is a degree or more, the
+/// result is some angle in `[0, 360)`. NaN and infinities give NaN.
 pub fn wrap_360<F: Float>(deg: F) -> F {
     let full = c::<F>(360.0);
-    let r = deg % full;
-    let r = if r < F::zero() { r + full } else { r };
-    // `-1e-20 + 360` rounds to 360.
-    if r >= full { F::zero() } else { r }
+    let zero = F::zero();
+    if deg >= zero && deg < full {
+        return deg;
+    }
+    // `deg / 360` may round to the next integer: `r` is then within a turn of `[0, 360)`, and
+    // exact (Sterbenz) but for `q = -1`.
+    let q = (deg / full).floor();
+    let mut r = deg - q * full;
+    if r < zero {
+        // `-1e-20 + 360` rounds to 360.
+        r = r + full;
+    } else if r >= full {
+        r = r - full;
+    }
+    if r.is_nan() || (r >= zero && r < full) { r } else { zero }
 }
 
 /// Wraps an angle into `[-180, 180)`.
@@ -137,12 +154,70 @@ mod tests {
         assert_eq!(atan2_deg(-1.0f64, 0.0), 270.0);
     }
 
+    /// The same angle (`-0.0`, which `%` gives for `-720`, is `0.0`).
+    fn same<F: Float + core::fmt::LowerExp>(a: F, b: F, d: F) {
+        assert!(
+            a == b || (a.is_nan() && b.is_nan()),
+            "{d:e}: {a:e} by floor, {b:e} by remainder"
+        );
+    }
+
+    /// What `wrap_360` was, with the float remainder.
+    fn by_rem<F: Float>(deg: F) -> F {
+        let full = c::<F>(360.0);
+        let r = deg % full;
+        let r = if r < F::zero() { r + full } else { r };
+        if r >= full { F::zero() } else { r }
+    }
+
+    #[test]
+    fn wrapping_by_floor_is_the_remainder() {
+        let mut rng = crate::rng::Rng::new(7);
+        let near = |k: f64, ulps: i64| {
+            let x = k * 360.0;
+            f64::from_bits((x.to_bits() as i64 + ulps) as u64)
+        };
+        for k in -2000..2000 {
+            for ulps in -3..=3 {
+                for d in [near(k as f64, ulps), near(k as f64 * 1e9, ulps)] {
+                    same(wrap_360(d), by_rem(d), d);
+                    let f = d as f32;
+                    if f.abs() < 1.6e7 {
+                        same(wrap_360(f), by_rem(f), f);
+                    }
+                }
+            }
+        }
+        for _ in 0..200_000 {
+            let scale = 10f64.powi((rng.unit() * 30.0) as i32 - 12);
+            let d = (rng.unit() - 0.5) * scale;
+            same(wrap_360(d), by_rem(d), d);
+            let f = d as f32;
+            if f.abs() < 1.6e7 {
+                same(wrap_360(f), by_rem(f), f);
+            }
+        }
+    }
+
     #[test]
     fn wrapping() {
         assert_eq!(wrap_360(-10.0f64), 350.0);
         assert_eq!(wrap_360(360.0f64), 0.0);
         assert_eq!(wrap_360(725.0f64), 5.0);
         assert_eq!(wrap_360(-1e-20f64), 0.0);
+        assert_eq!(wrap_360(-1e-20f32), 0.0);
+        assert_eq!(wrap_360(-360.0f64), 0.0);
+        assert_eq!(wrap_360(720.0f32), 0.0);
+        assert!(wrap_360(f64::NAN).is_nan() && wrap_360(f64::INFINITY).is_nan());
+        assert!(wrap_360(f32::NEG_INFINITY).is_nan());
+        for huge in [1e300f64, -1e300, 2f64.powi(60) + 7.0, f64::MAX, -f64::MAX] {
+            let r = wrap_360(huge);
+            assert!((0.0..360.0).contains(&r), "{huge}: {r}");
+        }
+        for huge in [1e30f32, -3e9, f32::MAX] {
+            let r = wrap_360(huge);
+            assert!((0.0..360.0).contains(&r), "{huge}: {r}");
+        }
         assert_eq!(wrap_180(190.0f64), -170.0);
         assert_eq!(wrap_180(-180.0f64), -180.0);
         assert_eq!(surveying_azimuth_deg(65.5f64), 294.5);

@@ -13,7 +13,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::angle::{atan2_deg, sincos_deg};
-use crate::{EARTH_RATE_DPH, Float, c, positive};
+use crate::{EARTH_RATE_DPH, Float, c, positive, sqrt};
 
 /// Most unknowns a fit can have: C, A, B, two drift terms and two more harmonics.
 pub const MAX_TERMS: usize = 9;
@@ -76,14 +76,14 @@ fn two_sum<F: Float>(a: F, b: F) -> (F, F) {
 /// Cortex-M4F does in software (450 instructions a call, three calls a position). The plain
 /// sum gives the `f32` fit the same worst case as `hypotf` (`tests/fit.rs`); it is scaled by
 /// the larger value only when the squares leave the normal range.
-fn hypot<F: Float>(a: F, b: F) -> F {
-    let h = (a * a + b * b).sqrt();
+pub(crate) fn hypot<F: Float>(a: F, b: F) -> F {
+    let h = sqrt(a * a + b * b);
     if h.is_normal() {
         return h;
     }
     let m = a.abs().max(b.abs());
     let (a, b) = (a / m, b / m);
-    m * (a * a + b * b).sqrt()
+    m * sqrt(a * a + b * b)
 }
 
 /// Solution of an [`Lsq`]: coefficients and the inverse of the triangular factor.
@@ -122,7 +122,7 @@ impl<F: Float> Lsq<F> {
 
     /// Adds the row `x . beta = y` with weight `w`; `x` holds the first `p` columns.
     pub fn add_row(&mut self, x: &[F], y: F, w: F) {
-        let sw = w.sqrt();
+        let sw = sqrt(w);
         let mut row = [F::zero(); MAX_TERMS];
         for (d, s) in row.iter_mut().zip(x.iter().take(self.p)) {
             *d = *s * sw;
@@ -381,12 +381,8 @@ impl<F: Float> AzimuthFit<F> {
         let sol = self.lsq.solve()?;
         let (cc, a, b) = (sol.coef[0], sol.coef[1], sol.coef[2]);
         let r2 = a * a + b * b;
-        let size = cc
-            .abs()
-            .max(a.abs())
-            .max(b.abs())
-            .max((sol.rss / c(sol.n as f64)).sqrt());
-        if r2.sqrt() <= size * F::epsilon() * c(1e3) {
+        let size = cc.abs().max(a.abs()).max(b.abs()).max(sqrt(sol.rss / c(sol.n as f64)));
+        if sqrt(r2) <= size * F::epsilon() * c(1e3) {
             return Err(FitError::NoSignal);
         }
         let dof = sol.dof();
@@ -399,11 +395,11 @@ impl<F: Float> AzimuthFit<F> {
         let var_psi = (b * b * vaa + a * a * vbb - c::<F>(2.0) * a * b * vab) / (r2 * r2);
         let var_amp = (a * a * vaa + b * b * vbb + c::<F>(2.0) * a * b * vab) / r2;
         // Rounding can leave a variance a hair below zero; NaN (no dof) must stay NaN.
-        let sd = |v: F| if v.is_nan() { v } else { v.max(F::zero()).sqrt() };
+        let sd = |v: F| if v.is_nan() { v } else { sqrt(v.max(F::zero())) };
         Ok(FitResult {
             cfg: self.cfg,
             psi_deg: atan2_deg(-b, a),
-            amplitude_dph: r2.sqrt(),
+            amplitude_dph: sqrt(r2),
             offset_dph: cc,
             rss: sol.rss,
             s2,

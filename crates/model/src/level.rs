@@ -1,8 +1,8 @@
 //! Levelling: the shaft tilt from inclinometer readings, and the knob turns that remove it.
 
 use crate::angle::{atan2_deg, sincos_deg};
-use crate::fit::{FitError, Lsq};
-use crate::{Float, c};
+use crate::fit::{FitError, Lsq, hypot};
+use crate::{Float, asin, c, is_f32, sqrt};
 
 /// One inclinometer reading at encoder angle `gamma`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,22 +46,23 @@ pub fn fit_tilt<F: Float>(readings: &[TiltReading<F>]) -> Result<ShaftTilt<F>, F
     }
     let sol = lsq.solve()?;
     let [cx, cy, a, b, ..] = sol.coef;
-    let r = a.hypot(b);
+    // In f32 not `libm`'s `hypotf`, which computes in f64.
+    let r = if is_f32::<F>() { hypot(a, b) } else { a.hypot(b) };
     // sin^2(eta) from cx = sin(ox) cos(eta) and r = cos(ox) sin(eta): the smaller root.
     let cx2 = cx * cx;
     let q = F::one() + r * r - cx2;
     let disc = (q * q - c::<F>(4.0) * r * r).max(F::zero());
-    let s2 = (c::<F>(2.0) * r * r / (q + disc.sqrt())).min(F::one());
-    let ceta = (F::one() - s2).sqrt();
-    let off = |v: F| (v / ceta).max(-F::one()).min(F::one()).asin().to_degrees();
+    let s2 = (c::<F>(2.0) * r * r / (q + sqrt(disc))).min(F::one());
+    let ceta = sqrt(F::one() - s2);
+    let off = |v: F| asin((v / ceta).max(-F::one()).min(F::one())).to_degrees();
     let dof = sol.n as i64 - 4;
     let rms = if dof > 0 {
-        (sol.rss / c(dof as f64)).sqrt().asin().to_degrees()
+        asin(sqrt(sol.rss / c(dof as f64))).to_degrees()
     } else {
         F::zero()
     };
     Ok(ShaftTilt {
-        tilt_deg: s2.sqrt().asin().to_degrees(),
+        tilt_deg: asin(sqrt(s2)).to_degrees(),
         tilt_dir_deg: atan2_deg(-b, -a),
         offset_x_deg: off(cx),
         offset_y_deg: off(cy),

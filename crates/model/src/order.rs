@@ -95,11 +95,41 @@ impl Order {
         Order::Interleaved,
     ];
 
+    /// The named order `i` of [`Order::NAMED`]. (A match, not an index into `NAMED`: every
+    /// `Order` is as large as a full listed order, so the table takes 2.5 KiB of the
+    /// firmware's flash.)
+    pub fn named(i: usize) -> Option<Order> {
+        Some(match i {
+            0 => Order::Sequential,
+            1 => Order::ForwardBack,
+            2 => Order::OppositePairs,
+            3 => Order::AlternatingPairs,
+            4 => Order::Interleaved,
+            _ => return None,
+        })
+    }
+
+    /// Where a named order is in [`Order::NAMED`]; `None` for a listed one.
+    pub fn named_index(&self) -> Option<usize> {
+        match self {
+            Order::Sequential => Some(0),
+            Order::ForwardBack => Some(1),
+            Order::OppositePairs => Some(2),
+            Order::AlternatingPairs => Some(3),
+            Order::Interleaved => Some(4),
+            Order::List(_) => None,
+        }
+    }
+
     /// A name of [`NAMES`] (case-insensitive) or a comma-separated list such as `0,36,37,1`.
     pub fn parse(s: &str) -> Result<Order, OrderError> {
-        let s = s.trim();
-        if let Some(i) = NAMES.iter().position(|n| n.eq_ignore_ascii_case(s)) {
-            return Ok(Order::NAMED[i]);
+        let s = s.trim_ascii();
+        if let Some(o) = NAMES
+            .iter()
+            .position(|n| n.eq_ignore_ascii_case(s))
+            .and_then(Order::named)
+        {
+            return Ok(o);
         }
         if !s.starts_with(|c: char| c.is_ascii_digit()) {
             return Err(OrderError::Unknown);
@@ -110,13 +140,9 @@ impl Order {
     }
 
     pub fn name(&self) -> &'static str {
-        match self {
-            Order::Sequential => NAMES[0],
-            Order::ForwardBack => NAMES[1],
-            Order::OppositePairs => NAMES[2],
-            Order::AlternatingPairs => NAMES[3],
-            Order::Interleaved => NAMES[4],
-            Order::List(_) => "list",
+        match self.named_index() {
+            Some(i) => NAMES[i],
+            None => "list",
         }
     }
 
@@ -195,7 +221,7 @@ impl VisitList {
     pub fn extend(&mut self, csv: &str) -> Result<(), OrderError> {
         for word in csv.split(',') {
             let at = self.len;
-            let p = word.trim().parse().map_err(|_| OrderError::BadEntry { at })?;
+            let p = word.trim_ascii().parse().map_err(|_| OrderError::BadEntry { at })?;
             self.push(p)?;
         }
         Ok(())
@@ -266,6 +292,19 @@ mod tests {
             let inter = drift_coupling(&Order::Interleaved, n);
             assert!((0.4..0.6).contains(&inter), "n = {n}: {inter}");
         }
+    }
+
+    #[test]
+    fn named_orders_by_index_are_the_table() {
+        for (i, o) in Order::NAMED.iter().enumerate() {
+            assert_eq!(Order::named(i), Some(*o));
+            assert_eq!(o.named_index(), Some(i));
+            assert_eq!(Order::parse(NAMES[i]), Ok(*o));
+            assert_eq!(o.name(), NAMES[i]);
+        }
+        assert_eq!(Order::named(5), None);
+        let list = Order::parse("0,1").unwrap();
+        assert_eq!((list.named_index(), list.name()), (None, "list"));
     }
 
     #[test]

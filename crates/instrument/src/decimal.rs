@@ -1,0 +1,183 @@
+//! Decimal numbers in text read as fixed point: `[+-]digits[.digits]` into an integer count of
+//! `10^-decimals` units (micro-degrees, nano-units, ...). The firmware reads the host link's
+//! settings and the inclinometer's lines with this instead of `core`'s float parser, which
+//! brought some 17 KiB of tables and code to the MCU.
+//!
+//! Accepted: an optional sign, digits with at most one decimal point, and at least one digit
+//! (`5`, `-0.25`, `+.5`, `7.`). Refused: anything else, including exponents (`1e3`), `inf`
+//! and `nan`. Digits past `decimals` round the last unit half away from zero.
+
+/// Why a text is not a number of the units asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DecimalError {
+    /// Not a plain decimal number.
+    Syntax,
+    /// A number whose count of units does not fit an `i64`.
+    Overflow,
+}
+
+/// The largest `decimals` the conversions take: `10^18` is the largest power of ten in `i64`.
+pub const MAX_DECIMALS: u32 = 18;
+
+/// `10^d`, `d <= MAX_DECIMALS`.
+pub const fn pow10(d: u32) -> u64 {
+    let mut p = 1u64;
+    let mut i = 0;
+    while i < d {
+        p *= 10;
+        i += 1;
+    }
+    p
+}
+
+/// Reads `text` as a count of `10^-decimals` units (`decimals <= MAX_DECIMALS`).
+pub fn parse_fixed(text: &[u8], decimals: u32) -> Result<i64, DecimalError> {
+    let (neg, digits) = match text {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        _ => (false, text),
+    };
+    let decimals = decimals.min(MAX_DECIMALS);
+    // `None` once the count overflowed: the text is still read to its end, so that a text that
+    // is no number says so whatever its length.
+    let mut units = Some(0u64);
+    let mut seen_digit = false;
+    // Decimals taken after the point, or `None` before it.
+    let mut frac: Option<u32> = None;
+    // The first digit past `decimals`, for the rounding.
+    let mut next: Option<u8> = None;
+    for &b in digits {
+        match b {
+            b'.' if frac.is_none() => frac = Some(0),
+            b'0'..=b'9' => {
+                seen_digit = true;
+                let d = b - b'0';
+                match &mut frac {
+                    Some(f) if *f >= decimals => {
+                        next.get_or_insert(d);
+                    }
+                    f => {
+                        units = units.and_then(|u| u.checked_mul(10)?.checked_add(d as u64));
+                        if let Some(f) = f {
+                            *f += 1;
+                        }
+                    }
+                }
+            }
+            _ => return Err(DecimalError::Syntax),
+        }
+    }
+    if !seen_digit {
+        return Err(DecimalError::Syntax);
+    }
+    let scale = pow10(decimals - frac.unwrap_or(0));
+    let round = next.is_some_and(|d| d >= 5) as u64;
+    let units = units
+        .and_then(|u| u.checked_mul(scale)?.checked_add(round))
+        .ok_or(DecimalError::Overflow)?;
+    if neg {
+        0i64.checked_sub_unsigned(units).ok_or(DecimalError::Overflow)
+    } else {
+        i64::try_from(units).map_err(|_| DecimalError::Overflow)
+    }
+}
+
+/// `units * 10^-decimals` as the nearest `f32` (but for a rare double rounding past `2^24`
+/// units).
+pub fn to_f32(units: i64, decimals: u32) -> f32 {
+    const EXACT: i64 = 1 << 24;
+    if (-EXACT..=EXACT).contains(&units) {
+        // Both exact in f32, one rounding in the division; one VCVT on the M4F.
+        units as i32 as f32 / pow10(decimals.min(MAX_DECIMALS)) as f32
+    } else {
+        to_f64(units, decimals) as f32
+    }
+}
+
+/// `units * 10^-decimals` as the nearest `f64` when `|units| < 2^53` (both exact, one
+/// rounding in the division), within one rounding of it above.
+pub fn to_f64(units: i64, decimals: u32) -> f64 {
+    units as f64 / pow10(decimals.min(MAX_DECIMALS)) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use DecimalError::{Overflow, Syntax};
+
+    fn p(s: &str, d: u32) -> Result<i64, DecimalError> {
+        parse_fixed(s.as_bytes(), d)
+    }
+
+    #[test]
+    fn plain_decimals_in_units() {
+        assert_eq!(p("43.8", 6), Ok(43_800_000));
+        assert_eq!(p("-33.9", 6), Ok(-33_900_000));
+        assert_eq!(p("+0.01234", 5), Ok(1234));
+        assert_eq!(p("0", 9), Ok(0));
+        assert_eq!(p("-0", 9), Ok(0));
+        assert_eq!(p("7", 0), Ok(7));
+        assert_eq!(p("7.", 2), Ok(700));
+        assert_eq!(p(".5", 1), Ok(5));
+        assert_eq!(p("-.5", 3), Ok(-500));
+        assert_eq!(p("0000000000000000000000012.5", 1), Ok(125));
+        assert_eq!(p("0.00000596", 15), Ok(5_960_000_000));
+        assert_eq!(p("9223372036854775807", 0), Ok(i64::MAX));
+        assert_eq!(p("-9223372036854775807", 0), Ok(-i64::MAX));
+    }
+
+    #[test]
+    fn digits_past_the_units_round_half_away_from_zero() {
+        assert_eq!(p("0.1234565", 6), Ok(123_457));
+        assert_eq!(p("0.1234564999", 6), Ok(123_456));
+        assert_eq!(p("-0.1234565", 6), Ok(-123_457));
+        assert_eq!(p("-0.0000004", 6), Ok(0));
+        assert_eq!(p("2.5", 0), Ok(3));
+        assert_eq!(p("0.00000000000000000000000000009", 6), Ok(0));
+        // Only the first digit past the units decides: 0.49999 is under a half.
+        assert_eq!(p("0.49999", 0), Ok(0));
+    }
+
+    #[test]
+    fn bad_text_is_refused_and_says_why() {
+        for bad in [
+            "", "+", "-", ".", "-.", "1e3", "1E-3", "nan", "NaN", "inf", "-inf", "infinity", "1.2.3", "--1", "+-1",
+            " 1", "1 ", "1,5", "0x10", "1_000", "½", "١",
+        ] {
+            assert_eq!(p(bad, 6), Err(Syntax), "{bad:?}");
+        }
+        assert_eq!(parse_fixed(&[b'1', 0xff], 0), Err(Syntax));
+        // No number, however long.
+        assert_eq!(p("37203547758094775809x", 0), Err(Syntax));
+        assert_eq!(p("9223372036854775808", 0), Err(Overflow));
+        assert_eq!(p("-9223372036854775808", 0), Ok(i64::MIN));
+        assert_eq!(p("-9223372036854775809", 0), Err(Overflow));
+        assert_eq!(p("100000000000000000000", 0), Err(Overflow));
+        assert_eq!(p("10000", 15), Err(Overflow));
+        assert_eq!(p("9223372036854775807.5", 0), Err(Overflow));
+        // Large but within the units: still a number, for the caller's range check.
+        assert_eq!(p("9223.372036854775807", 15), Ok(i64::MAX));
+    }
+
+    #[test]
+    fn the_decimals_ask_for_at_most_the_largest_power_of_ten() {
+        assert_eq!(pow10(MAX_DECIMALS), 1_000_000_000_000_000_000);
+        assert_eq!(p("1", 30), Ok(1_000_000_000_000_000_000));
+        assert_eq!(to_f64(5, 30), 5e-18);
+    }
+
+    #[test]
+    fn conversions_round_once() {
+        for s in ["43.8", "-33.9", "0.01234", "-1.5", "89", "0.05", "10", "0"] {
+            let want: f32 = s.parse().unwrap();
+            assert_eq!(to_f32(p(s, 6).unwrap(), 6), want, "{s}");
+        }
+        for s in ["0.0012", "0.004", "0.3", "60", "0.0001178", "1000000", "0.000000001"] {
+            let want: f64 = s.parse().unwrap();
+            assert_eq!(to_f64(p(s, 9).unwrap(), 9), want, "{s}");
+        }
+        assert_eq!(to_f64(p("0.00000596", 15).unwrap(), 15), 0.00000596);
+        assert_eq!(to_f32(i64::MAX, 0), 9.223372e18);
+    }
+}
