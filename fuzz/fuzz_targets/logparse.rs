@@ -1,7 +1,8 @@
 //! Extraction of the recording from a defmt log. On any text: no panic, and every extracted
 //! line is non-empty, one line, and a piece of the input. Model: recording lines (metadata and
 //! data) printed the way probe-rs and defmt-print print the firmware's `rec <line>`, among
-//! other log lines and location lines, come back exactly and in order.
+//! other log lines and location lines, come back exactly and in order; the runs it splits
+//! them into hold every line once, in order.
 #![no_main]
 
 use arbitrary::{Result, Unstructured};
@@ -102,9 +103,15 @@ fn model(u: &mut Unstructured) -> Result<()> {
 fuzz_target!(|data: &[u8]| {
     let text = nf_fuzz::text(data);
     let lines = text.lines().count().max(1);
-    for (at, l) in extract(data).rec {
+    let log = extract(data);
+    for (at, l) in &log.rec {
         assert!(!l.is_empty() && !l.contains('\n'), "{l:?}");
-        assert!((1..=lines + 1).contains(&at), "{l:?} at line {at} of {lines}");
+        assert!((1..=lines + 1).contains(at), "{l:?} at line {at} of {lines}");
     }
+    // The runs partition the lines, each after the first starting with metadata.
+    let runs = log.runs();
+    let joined: Vec<_> = runs.iter().flat_map(|r| r.rec.clone()).collect();
+    assert_eq!(joined, log.rec);
+    assert!(runs.iter().skip(1).all(|r| r.rec[0].1.starts_with('#')));
     let _ = model(&mut Unstructured::new(data));
 });

@@ -40,6 +40,63 @@ impl Log {
     }
 }
 
+impl Log {
+    /// The runs the log holds: a run begins where metadata (`# ...`) follows a position line
+    /// or starts the log. Warnings go with the run whose lines they are among.
+    pub fn runs(&self) -> Vec<Log> {
+        let mut starts: Vec<usize> = Vec::new();
+        let mut in_meta = false;
+        for (i, (_, l)) in self.rec.iter().enumerate() {
+            let meta = l.starts_with('#');
+            if meta && !in_meta {
+                starts.push(i);
+            }
+            in_meta = meta;
+        }
+        if starts.first() != Some(&0) {
+            starts.insert(0, 0);
+        }
+        let bounds: Vec<(usize, usize)> = starts
+            .iter()
+            .zip(starts.iter().skip(1).chain(std::iter::once(&self.rec.len())))
+            .map(|(&a, &b)| (a, b))
+            .collect();
+        bounds
+            .iter()
+            .enumerate()
+            .map(|(k, &(a, b))| {
+                let first = if k == 0 { 0 } else { self.rec[a].0 };
+                let next = bounds.get(k + 1).map_or(usize::MAX, |&(c, _)| self.rec[c].0);
+                Log {
+                    rec: self.rec[a..b].to_vec(),
+                    warnings: self
+                        .warnings
+                        .iter()
+                        .filter(|w| (first..next).contains(&w.line))
+                        .cloned()
+                        .collect(),
+                }
+            })
+            .collect()
+    }
+
+    /// The recording's metadata value of `key`, as written.
+    pub fn meta(&self, key: &str) -> Option<&str> {
+        self.rec.iter().find_map(|(_, l)| {
+            let (k, v) = l.strip_prefix('#')?.split_once('=')?;
+            (k.trim() == key).then(|| v.trim())
+        })
+    }
+
+    /// Position lines (neither metadata nor the header).
+    pub fn positions(&self) -> usize {
+        self.rec
+            .iter()
+            .filter(|(_, l)| !l.starts_with('#') && !l.starts_with("index"))
+            .count()
+    }
+}
+
 /// The recording lines found in a log, in order.
 pub fn extract(log: &[u8]) -> Log {
     let log = log.strip_prefix("\u{FEFF}".as_bytes()).unwrap_or(log);
@@ -218,6 +275,22 @@ WARN  inclinometer: bad line dropped
                 "0,1.25,0.0000000,4.495000",
             ]
         );
+    }
+
+    #[test]
+    fn a_log_of_two_runs_splits_where_the_metadata_starts_again() {
+        let one = "rec # format = northfinder-recording/1\nrec # latitude_deg = 40\nrec index,t_s\nrec 0,1\nrec 1,2\n";
+        let mut log = format!("INFO boot\n{one}INFO run ended\n").into_bytes();
+        log.extend(b"\xff noise\n");
+        log.extend(format!("{one}rec 2,3\n").bytes());
+        let l = extract(&log);
+        let runs = l.runs();
+        assert_eq!(runs.len(), 2);
+        assert_eq!((runs[0].positions(), runs[1].positions()), (2, 3));
+        assert_eq!((runs[0].rec[0].0, runs[1].rec[0].0), (2, 9));
+        assert_eq!(runs[1].meta("latitude_deg"), Some("40"));
+        assert_eq!((runs[0].warnings.len(), runs[1].warnings.len()), (1, 0));
+        assert_eq!(extract(b"rec 0,1\n").runs().len(), 1);
     }
 
     #[test]

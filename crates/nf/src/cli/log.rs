@@ -16,6 +16,32 @@ pub struct LogArgs {
     /// without it that is an error.
     #[arg(long)]
     allow_gaps: bool,
+    /// The run to take from a log that holds several (from 1, in the log's order); without it
+    /// such a log is listed.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    run: Option<u32>,
+}
+
+/// One line per run: where it starts, its positions and its metadata.
+fn list(runs: &[logparse::Log]) -> String {
+    runs.iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let at = r.rec.first().map_or(0, |l| l.0);
+            let meta: Vec<String> = ["started", "positions", "latitude_deg", "order"]
+                .iter()
+                .filter_map(|k| Some(format!("{k} {}", r.meta(k)?)))
+                .collect();
+            format!(
+                "  run {}: from log line {at}, {} position lines{}{}",
+                i + 1,
+                r.positions(),
+                if meta.is_empty() { "" } else { "; " },
+                meta.join(", ")
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 fn describe(g: &Gap) -> String {
@@ -39,7 +65,24 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
     } else {
         bytes = std::fs::read(&a.log).map_err(|e| Fail(format!("cannot read {}: {e}", a.log), 2))?;
     }
-    let log = logparse::extract(&bytes);
+    let mut runs = logparse::extract(&bytes).runs();
+    let count = runs.len();
+    let log = match a.run {
+        Some(k) if k as usize <= count => runs.swap_remove(k as usize - 1),
+        Some(k) => {
+            return Err(Fail(
+                format!("{}: --run {k}, but the log holds {count} run(s):\n{}", a.log, list(&runs)),
+                2,
+            ));
+        }
+        None if count > 1 => {
+            return Err(Fail(
+                format!("{}: the log holds {count} runs; pick one with --run N:\n{}", a.log, list(&runs)),
+                2,
+            ));
+        }
+        None => runs.swap_remove(0),
+    };
     for w in &log.warnings {
         note!("nf: warning: {}", w.at(&a.log));
     }
