@@ -241,12 +241,24 @@ fn log_turns_a_defmt_log_into_the_same_recording() {
     assert_eq!(std::fs::read_to_string(&out).unwrap(), rec.text());
     // Two runs in one log: listed, and each taken whole with --run.
     let mut second = Recorder::default();
-    simulate(&TwinConfig { seed: 9, ..twin }, &RunConfig { positions: 8, ..run }, &mut second);
-    let two = log.clone() + &second.lines.iter().map(|l| format!("INFO  rec {l}\n")).collect::<String>();
+    simulate(
+        &TwinConfig { seed: 9, ..twin },
+        &RunConfig { positions: 8, ..run },
+        &mut second,
+    );
+    let two = log.clone()
+        + &second
+            .lines
+            .iter()
+            .map(|l| format!("INFO  rec {l}\n"))
+            .collect::<String>();
     std::fs::write(&path, &two).unwrap();
     let (code, _, err) = nf(&["log", &path]);
     assert_eq!(code, 2);
-    assert!(err.contains("holds 2 runs") && err.contains("run 2: from log line") && err.contains("8 position lines"), "{err}");
+    assert!(
+        err.contains("holds 2 runs") && err.contains("run 2: from log line") && err.contains("8 position lines"),
+        "{err}"
+    );
     let (code, _, err) = nf(&["log", &path, "--run", "2", "-o", &out]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(std::fs::read_to_string(&out).unwrap(), second.text());

@@ -2,7 +2,7 @@
 //! and after the fix, as text, JSON and plots.
 
 use crate::plot::{Panel, Series, Style};
-use crate::sim_compare::{Comparison, Quantity, Residuals, SimReport, Verdict};
+use crate::sim_compare::{Comparison, Quantity, Residuals, SimReport, Verdict, Where};
 use serde_json::{Value, json};
 use std::io::Write;
 
@@ -17,6 +17,39 @@ fn comparison_json(c: &Comparison) -> Value {
     })
 }
 
+fn where_json(w: &Where) -> Value {
+    json!({
+        "beyond": w.beyond,
+        "largest": w.largest.iter().map(|d| json!({
+            "index": d.index, "gamma_deg": d.gamma_deg, "t_s": d.t_s,
+            "difference_dph": d.difference_dph, "z": d.z, "significant": d.significant,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+fn where_text(out: &mut impl Write, label: &str, w: &Where) -> std::io::Result<()> {
+    let list: Vec<String> = w
+        .largest
+        .iter()
+        .map(|d| {
+            format!(
+                "index {} (gamma {:.2} deg, t {:.1} s) z {:+.1}{}",
+                d.index,
+                d.gamma_deg,
+                d.t_s,
+                d.z,
+                if d.significant { "*" } else { "" }
+            )
+        })
+        .collect();
+    writeln!(
+        out,
+        "  positions {label}: {} beyond the bound; largest: {}",
+        w.beyond,
+        list.join("; ")
+    )
+}
+
 pub fn json(s: &SimReport) -> Value {
     json!({
         "dwell_s": s.dwell_s,
@@ -27,6 +60,8 @@ pub fn json(s: &SimReport) -> Value {
         })).collect::<Vec<_>>(),
         "before": comparison_json(&s.before),
         "after": comparison_json(&s.fixed.after),
+        "positions_before": where_json(&s.places),
+        "positions_after": where_json(&s.fixed.places),
         "changes": s.fixed.changes,
     })
 }
@@ -84,6 +119,8 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
         s.before.mismatches(),
         s.fixed.after.mismatches()
     )?;
+    where_text(out, "departing (Eq. 7 residual against the replays')", &s.places)?;
+    where_text(out, "departing after the fix", &s.fixed.places)?;
     for c in &s.fixed.changes {
         writeln!(out, "  fix: {c}")?;
     }

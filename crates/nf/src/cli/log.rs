@@ -71,13 +71,21 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
         Some(k) if k as usize <= count => runs.swap_remove(k as usize - 1),
         Some(k) => {
             return Err(Fail(
-                format!("{}: --run {k}, but the log holds {count} run(s):\n{}", a.log, list(&runs)),
+                format!(
+                    "{}: --run {k}, but the log holds {count} run(s):\n{}",
+                    a.log,
+                    list(&runs)
+                ),
                 2,
             ));
         }
         None if count > 1 => {
             return Err(Fail(
-                format!("{}: the log holds {count} runs; pick one with --run N:\n{}", a.log, list(&runs)),
+                format!(
+                    "{}: the log holds {count} runs; pick one with --run N:\n{}",
+                    a.log,
+                    list(&runs)
+                ),
                 2,
             ));
         }

@@ -7,6 +7,7 @@
 mod compare;
 mod fix;
 mod physics;
+mod positions;
 mod profile;
 mod replay;
 #[cfg(test)]
@@ -14,6 +15,7 @@ mod tests;
 
 pub use compare::{Comparison, Line};
 pub use physics::{Physics, Verdict, settling_offset};
+pub use positions::{Departure, Where};
 pub use profile::{Quantity, profile};
 pub use replay::{dwell_of, replay, run_origin_s};
 
@@ -69,6 +71,7 @@ pub struct Fixed {
     pub file: InstrumentFile,
     pub changes: Vec<String>,
     pub after: Comparison,
+    pub places: Where,
     pub residuals: Residuals,
 }
 
@@ -77,6 +80,8 @@ pub struct SimReport {
     pub dwell_s: f64,
     pub physics: Vec<Physics>,
     pub before: Comparison,
+    /// The positions where the recording departs most from the replays.
+    pub places: Where,
     pub fixed: Fixed,
     pub recording: Residuals,
     pub simulation: Residuals,
@@ -88,42 +93,57 @@ fn seed(file: &InstrumentFile, i: usize) -> u64 {
     file.seed ^ 0x9E37_79B9_7F4A_7C15u64.wrapping_mul(i as u64 + 1)
 }
 
-/// The profiles of `replays` replays of `file`, and the first replay.
-fn replays(file: &InstrumentFile, rec: &Recording, n: usize) -> (Vec<profile::Profile>, Recording) {
+/// `n` replays of `file`: their profiles, their Eq. 7 residuals and the first replay.
+struct Replays {
+    profiles: Vec<profile::Profile>,
+    residuals: Vec<Residuals>,
+    first: Recording,
+}
+
+fn replays(file: &InstrumentFile, rec: &Recording, n: usize) -> Replays {
     let origin = run_origin_s(file);
-    let first = replay(file, rec, seed(file, 0), origin);
-    let profiles = std::iter::once(profile(&first))
-        .chain((1..n).map(|i| profile(&replay(file, rec, seed(file, i), origin))))
-        .flatten()
-        .collect();
-    (profiles, first)
+    let all: Vec<Recording> = (0..n).map(|i| replay(file, rec, seed(file, i), origin)).collect();
+    Replays {
+        profiles: all.iter().filter_map(profile).collect(),
+        residuals: all.iter().map(residuals).collect(),
+        first: all.into_iter().next().unwrap_or_else(|| rec.clone()),
+    }
 }
 
 /// Compares `rec` (diagnosed as `diag`) with the simulation `file`.
 pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &Options) -> Result<SimReport, String> {
     let dwell_s = dwell_of(rec, file.run.dwell_s);
     let mine = profile(rec).ok_or("the positions do not determine A cos + B sin + C")?;
-    let (sims, first) = replays(file, rec, opt.replays);
-    let before = compare::compare(&mine, &sims, opt.alpha);
-    let sim_diag = diagnose::diagnose(&first, &opt.diagnose)?;
+    let sims = replays(file, rec, opt.replays);
+    let before = compare::compare(&mine, &sims.profiles, opt.alpha);
+    let recording = residuals(rec);
+    let places = positions::departures(rec, &recording, &sims.residuals, opt.alpha);
+    let sim_diag = diagnose::diagnose(&sims.first, &opt.diagnose)?;
     let origin_s = run_origin_s(file);
     let physics = physics::judge(rec, diag, file, &sim_diag, dwell_s, origin_s);
     let (f1, mut changes) = fix::effects(file, &physics, rec, dwell_s, origin_s);
-    let (sims1, _) = replays(&f1, rec, opt.replays);
-    let (f2, moved) = fix::moments(&f1, &compare::compare(&mine, &sims1, opt.alpha), &physics, diag);
+    let sims1 = replays(&f1, rec, opt.replays);
+    let (f2, moved) = fix::moments(
+        &f1,
+        &compare::compare(&mine, &sims1.profiles, opt.alpha),
+        &physics,
+        diag,
+    );
     changes.extend(moved);
-    let (sims2, first2) = replays(&f2, rec, opt.replays);
+    let sims2 = replays(&f2, rec, opt.replays);
     Ok(SimReport {
         dwell_s,
         physics,
         before,
+        places,
         fixed: Fixed {
             file: f2,
             changes,
-            after: compare::compare(&mine, &sims2, opt.alpha),
-            residuals: residuals(&first2),
+            after: compare::compare(&mine, &sims2.profiles, opt.alpha),
+            places: positions::departures(rec, &recording, &sims2.residuals, opt.alpha),
+            residuals: residuals(&sims2.first),
         },
-        recording: residuals(rec),
-        simulation: residuals(&first),
+        recording,
+        simulation: residuals(&sims.first),
     })
 }
