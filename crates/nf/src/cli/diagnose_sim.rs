@@ -33,7 +33,7 @@ fn where_text(out: &mut impl Write, label: &str, w: &Where) -> std::io::Result<(
         .iter()
         .map(|d| {
             format!(
-                "index {} (gamma {:.2} deg, t {:.1} s) z {:+.1}{}",
+                "index {} (gamma {:.3} deg, t {:.1} s) z {:+.1}{}",
                 d.index,
                 d.gamma_deg,
                 d.t_s,
