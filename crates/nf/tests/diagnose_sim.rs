@@ -127,6 +127,12 @@ fn each_effect_left_out_of_the_simulation_is_named_and_put_back() {
             p.verdict
         );
         let (truth, fixed) = ((c.size)(&with), (c.size)(&s.fixed.file));
+        eprintln!(
+            "{name:<20} {:<10} truth {truth:<12.4e} fixed {fixed:<12.4e} mismatches {} -> {}",
+            format!("{:?}", p.verdict),
+            s.before.mismatches(),
+            s.fixed.after.mismatches()
+        );
         assert!(
             (fixed - truth).abs() <= 0.25 * truth.abs(),
             "{name}: fixed {fixed}, truth {truth}"
