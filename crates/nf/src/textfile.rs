@@ -179,24 +179,30 @@ impl<'a> Head<'a> {
             }
             line
         };
-        reader(data.as_bytes()).into_records().map(move |r| {
-            let r = r.map_err(|e| Error {
-                line: e.position().map_or(0, |p| line_of(p.byte())),
-                what: format!("not a CSV record: {}", e.kind_text()),
-            })?;
-            let n = r.position().map_or(0, |p| line_of(p.byte()));
-            if r.len() == width {
-                Ok((n, r))
-            } else {
-                err(n, format!("{} fields, the header has {width}", r.len()))
-            }
-        })
+        let blank =
+            |r: &Result<csv::StringRecord, csv::Error>| r.as_ref().is_ok_and(|r| r.len() == 1 && r[0].is_empty());
+        reader(data.as_bytes())
+            .into_records()
+            .filter(move |r| !blank(r))
+            .map(move |r| {
+                let r = r.map_err(|e| Error {
+                    line: e.position().map_or(0, |p| line_of(p.byte())),
+                    what: format!("not a CSV record: {}", e.kind_text()),
+                })?;
+                let n = r.position().map_or(0, |p| line_of(p.byte()));
+                if r.len() == width {
+                    Ok((n, r))
+                } else {
+                    err(n, format!("{} fields, the header has {width}", r.len()))
+                }
+            })
     }
 }
 
 /// The project's CSV dialect: commas, `"` quotes, `#` comment lines, fields trimmed, any
 /// number of fields per line (checked by the caller, who can say which line). Lines end at
-/// `\n` (a `\r` before it is trimmed), as `str::lines` has them for the metadata.
+/// `\n` (a `\r` before it is trimmed, so `\r\n` lines and their blank lines read as blank),
+/// as `str::lines` has them for the metadata.
 fn reader(bytes: &[u8]) -> csv::Reader<&[u8]> {
     csv::ReaderBuilder::new()
         .terminator(csv::Terminator::Any(b'\n'))
