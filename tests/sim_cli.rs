@@ -77,8 +77,16 @@ fn diagnose_against_a_simulation_names_what_it_lacks_and_the_fix_reproduces_the_
     assert!(s["before"]["mismatches"].as_u64().unwrap() >= 1);
     assert!(s["after"]["mismatches"].as_u64().unwrap() <= 1, "{}", s["after"]);
     // A drift departs most at the ends of the run.
-    assert!(s["positions_before"]["beyond"].as_u64().unwrap() >= 1, "{}", s["positions_before"]);
-    assert!(s["positions_after"]["beyond"].as_u64().unwrap() <= 1, "{}", s["positions_after"]);
+    assert!(
+        s["positions_before"]["beyond"].as_u64().unwrap() >= 1,
+        "{}",
+        s["positions_before"]
+    );
+    assert!(
+        s["positions_after"]["beyond"].as_u64().unwrap() <= 1,
+        "{}",
+        s["positions_after"]
+    );
     assert!(
         std::fs::read_to_string(&svg)
             .unwrap()

@@ -37,11 +37,22 @@ impl Cov {
     /// Factors `sigma` (n x n, row-major), first adding a constant to every element that makes
     /// a generalised covariance positive definite. `None` if it cannot be made so.
     pub fn new(sigma: &[f64], n: usize) -> Option<Cov> {
+        Self::factor(sigma, n, false)
+    }
+
+    /// As [`Cov::new`], the constant added from the start: one factorisation where a
+    /// generalised covariance (flicker, random walk) would take two. For designs with a
+    /// constant column, where the constant changes nothing.
+    pub fn shifted(sigma: &[f64], n: usize) -> Option<Cov> {
+        Self::factor(sigma, n, true)
+    }
+
+    fn factor(sigma: &[f64], n: usize, shift_first: bool) -> Option<Cov> {
         let scale = sigma.iter().fold(0.0f64, |s, v| s.max(v.abs()));
         if !(scale.is_finite() && scale > 0.0) {
             return None;
         }
-        let mut shift = 0.0;
+        let mut shift = if shift_first { 4.0 * scale } else { 0.0 };
         for _ in 0..6 {
             if let Some(chol) = cholesky(sigma, n, shift) {
                 return Some(Cov { n, chol });

@@ -78,22 +78,67 @@ fn unit_model(rb: f64, rk: f64) -> NoiseModel {
     }
 }
 
+/// The covariance of the dwell means is linear in the colour ratios:
+/// `white + rb flicker + rk walk`, each n x n, row-major.
+struct Basis {
+    n: usize,
+    white: Vec<f64>,
+    flicker: Vec<f64>,
+    walk: Vec<f64>,
+}
+
+impl Basis {
+    fn new(t_s: &[f64], dwell_s: f64) -> Basis {
+        let dwell = vec![dwell_s; t_s.len()];
+        let of = |m: NoiseModel| gls::window_covariance(&m, t_s, &dwell);
+        Basis {
+            n: t_s.len(),
+            white: of(unit_model(0.0, 0.0)),
+            flicker: of(NoiseModel {
+                bias_instability_dph: 1.0,
+                ..NoiseModel::WHITE_NONE
+            }),
+            walk: of(NoiseModel {
+                rrw_dph_rth: 60.0,
+                ..NoiseModel::WHITE_NONE
+            }),
+        }
+    }
+
+    /// The covariance at the ratios, factored.
+    fn cov(&self, rb: f64, rk: f64) -> Option<Cov> {
+        let sigma: Vec<f64> = (0..self.white.len())
+            .map(|i| self.white[i] + rb * self.flicker[i] + rk * self.walk[i])
+            .collect();
+        // Every design here has a constant column (Eq. 7's C).
+        Cov::shifted(&sigma, self.n)
+    }
+}
+
 struct Problem<'a> {
     data: Data<'a>,
+    /// The designs estimated at once: `data.cols` first.
+    designs: Vec<&'a [Vec<f64>]>,
     /// Scatter of the quarter contrasts, summed over dwells.
     scatter: [[f64; 3]; 3],
+    basis: Basis,
     evaluations: u32,
 }
 
 impl Problem<'_> {
-    /// The model at the colour ratios with the white level that maximises the likelihood.
-    fn profile(&mut self, rb: f64, rk: f64) -> Option<Candidate> {
+    /// The model at the colour ratios with the white level that maximises the likelihood,
+    /// for design `k`.
+    fn profile(&mut self, rb: f64, rk: f64, k: usize) -> Option<Candidate> {
         self.evaluations += 1;
+        let cov = self.basis.cov(rb, rk)?;
+        self.candidate(rb, rk, &cov, self.designs[k])
+    }
+
+    /// The profile under the factored covariance `cov` of the ratios.
+    fn candidate(&self, rb: f64, rk: f64, cov: &Cov, cols: &[Vec<f64>]) -> Option<Candidate> {
         let d = &self.data;
         let m = unit_model(rb, rk);
-        let dwell = vec![d.dwell_s; d.t_s.len()];
-        let cov = Cov::new(&gls::window_covariance(&m, d.t_s, &dwell), d.t_s.len())?;
-        let g = gls::fit(d.cols, d.y, &cov)?;
+        let g = gls::fit(cols, d.y, cov)?;
         // -2 loglik = N ln W + a + q / W, with the dwell means' REML and the quarter contrasts.
         let mut a = -2.0 * g.reml_loglik - g.chi2;
         let mut q = g.chi2;
@@ -169,6 +214,12 @@ fn grid(unit: f64) -> impl Iterator<Item = f64> + Clone {
 
 /// Estimates white noise, flicker and rate random walk from a recording.
 pub fn estimate(data: Data<'_>) -> Option<Estimate> {
+    estimate_all(data, &[]).into_iter().next().flatten()
+}
+
+/// [`estimate`] for `data` and for each of `more` designs of the same recording (other
+/// columns, the same dwell means): the grid's covariances are factored once for all.
+pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Vec<Option<Estimate>> {
     let mut scatter = [[0.0; 3]; 3];
     for q in data.quarters {
         let c: Vec<f64> = HELMERT.iter().map(|h| (0..4).map(|k| h[k] * q[k]).sum()).collect();
@@ -181,6 +232,8 @@ pub fn estimate(data: Data<'_>) -> Option<Estimate> {
     let span = data.t_s.iter().fold(0.0f64, |m, &t| m.max(t)) - data.t_s.iter().fold(f64::MAX, |m, &t| m.min(t));
     let dwell = data.dwell_s;
     let mut p = Problem {
+        designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
+        basis: Basis::new(data.t_s, dwell),
         data,
         scatter,
         evaluations: 0,
@@ -188,16 +241,28 @@ pub fn estimate(data: Data<'_>) -> Option<Estimate> {
     // Units that make the ratios dimensionless: flicker against a dwell's white variance,
     // the random walk over the run against it.
     let (ub, uk) = (1.0 / dwell, 1.0 / (dwell * span.max(dwell)));
-    let mut cands = Vec::new();
+    let mut cands: Vec<Vec<(f64, f64, Candidate)>> = vec![Vec::new(); p.designs.len()];
     for rb in grid(ub) {
         for rk in grid(uk) {
-            if let Some(c) = p.profile(rb, rk) {
-                cands.push((rb, rk, c));
+            p.evaluations += 1;
+            let Some(cov) = p.basis.cov(rb, rk) else { continue };
+            for (k, cols) in p.designs.iter().enumerate() {
+                if let Some(c) = p.candidate(rb, rk, &cov, cols) {
+                    cands[k].push((rb, rk, c));
+                }
             }
         }
     }
+    cands
+        .into_iter()
+        .enumerate()
+        .map(|(k, c)| refine(&mut p, k, c))
+        .collect()
+}
+
+/// The best of design `k`'s grid, refined in log steps, halving from the grid's half decade.
+fn refine(p: &mut Problem, k: usize, cands: Vec<(f64, f64, Candidate)>) -> Option<Estimate> {
     let (mut rb, mut rk, mut best) = cands.iter().max_by(|a, b| a.2.loglik.total_cmp(&b.2.loglik))?.clone();
-    // Refine the non-zero ratios in log steps, halving from the grid's half decade.
     let mut step = 10f64.powf(0.5);
     for _ in 0..6 {
         step = step.sqrt();
@@ -206,7 +271,7 @@ pub fn estimate(data: Data<'_>) -> Option<Estimate> {
             if cb == rb && ck == rk {
                 continue;
             }
-            if let Some(c) = p.profile(cb, ck)
+            if let Some(c) = p.profile(cb, ck, k)
                 && c.loglik > best.loglik
             {
                 (rb, rk, best) = (cb, ck, c);
@@ -216,7 +281,7 @@ pub fn estimate(data: Data<'_>) -> Option<Estimate> {
     Some(Estimate {
         best,
         grid: cands.into_iter().map(|c| c.2).collect(),
-        dof: p.data.t_s.len() - p.data.cols.len() + 3 * p.data.quarters.len(),
+        dof: p.data.t_s.len() - p.designs[k].len() + 3 * p.data.quarters.len(),
         evaluations: p.evaluations,
     })
 }

@@ -101,14 +101,23 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     }
     let quarters: Vec<[f64; 4]> = d.quarters.clone().unwrap_or_default();
     let robust = with_bursts_held_out(d, &cols, y);
-    let e = noise_est::estimate(noise_est::Data {
-        t_s: &d.t,
-        dwell_s,
-        cols: &robust,
-        y,
-        quarters: &quarters,
-    })
-    .ok_or("the noise could not be estimated from the recording")?;
+    // With a drift in the design too: the wander a random walk makes beyond a smooth curve,
+    // under which a drift or a jump is judged (below).
+    let mut drifting = robust.clone();
+    drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
+    let mut both = noise_est::estimate_all(
+        noise_est::Data {
+            t_s: &d.t,
+            dwell_s,
+            cols: &robust,
+            y,
+            quarters: &quarters,
+        },
+        &[&drifting],
+    )
+    .into_iter();
+    let (e, with_drift) = (both.next().flatten(), both.next().flatten());
+    let e = e.ok_or("the noise could not be estimated from the recording")?;
     let mut terms = Vec::new();
     let mut kept: Vec<fn(&NoiseModel) -> bool> = Vec::new();
     for (kind, value, none) in [
@@ -148,19 +157,9 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
         .map_or(e.best.model, |c| c.model);
     let cautious_model = most_coloured(d, &e, model);
-    // The most likely model with a drift in the design: the wander a random walk makes beyond
-    // a smooth curve, under which a drift or a jump is judged. Its upper bound would be too
+    // The most likely model with a drift in the design. Its upper bound would be too
     // cautious: beyond a curve, a modest random walk is hard to exclude.
-    let mut drifting = robust.clone();
-    drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
-    let drift_model = noise_est::estimate(noise_est::Data {
-        t_s: &d.t,
-        dwell_s,
-        cols: &drifting,
-        y,
-        quarters: &quarters,
-    })
-    .map_or(cautious_model, |e| e.best.model);
+    let drift_model = with_drift.map_or(cautious_model, |e| e.best.model);
     let plausible = plausible(&e)
         .into_iter()
         .map(|(w, m)| Ok((w, whitener_of(&m)?)))
