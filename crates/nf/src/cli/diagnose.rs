@@ -16,7 +16,7 @@ use serde_json::{Value, json};
 use std::io::Write;
 
 /// Positions beyond which a diagnosis takes over a second on this machine.
-const SLOW_POSITIONS: usize = 150;
+const SLOW_POSITIONS: usize = 220;
 
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
