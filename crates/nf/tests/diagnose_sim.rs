@@ -172,3 +172,16 @@ fn flicker_noise_the_simulation_lacks_is_named_and_put_in() {
     assert!(s.fixed.file.noise.bias_instability_dph > 0.0);
     assert!(s.fixed.after.mismatches() <= s.before.mismatches());
 }
+
+#[test]
+fn the_recording_s_plan_goes_into_the_fixed_file() {
+    let mut with = base();
+    with.run.positions = 24;
+    with.run.order = "forward-back".into();
+    with.run.dwell_s = 1.0;
+    let s = against(&recording(&with), &base());
+    let run = &s.fixed.file.run;
+    assert_eq!((run.positions, run.order.as_str(), run.dwell_s), (24, "forward-back", 1.0));
+    assert!(s.fixed.changes.iter().any(|c| c.starts_with("run: 24 positions")), "{:?}", s.fixed.changes);
+    assert!(s.fixed.after.mismatches() <= 1);
+}

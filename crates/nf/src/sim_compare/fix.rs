@@ -5,6 +5,7 @@
 
 use super::compare::Comparison;
 use super::physics::{Physics, Verdict, middle_s, noise_of, param};
+use super::plan;
 use super::profile::Quantity;
 use crate::diagnose::{Diagnosis, Kind};
 use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise};
@@ -170,6 +171,40 @@ fn temperature(f: &mut InstrumentFile, rec: &Recording, origin_s: f64) -> Option
     ))
 }
 
+/// The recording's plan where the file's differs: positions and order (when its angles lie
+/// on an equal grid), dwell and sample rate.
+fn run_plan(f: &mut InstrumentFile, rec: &Recording, dwell_s: f64) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let Some((n, order)) = plan::infer(rec)
+        && (n, order.as_str()) != (f.run.positions, f.run.order.as_str())
+    {
+        notes.push(format!(
+            "run: {n} positions, order {order} (the recording's; the file had {}, {})",
+            f.run.positions, f.run.order
+        ));
+        (f.run.positions, f.run.order) = (n, order);
+    }
+    if (dwell_s - f.run.dwell_s).abs() > 1e-3 {
+        notes.push(format!(
+            "run: dwell {dwell_s:.3} s (the recording's; the file had {} s)",
+            f.run.dwell_s
+        ));
+        f.run.dwell_s = dwell_s.clamp(0.01, 600.0);
+    }
+    let rate = rec
+        .meta
+        .get("sample_rate_hz")
+        .and_then(|v| v.trim().parse::<u32>().ok());
+    if let Some(r) = rate.filter(|r| (1..=100_000).contains(r) && *r != f.run.sample_rate_hz) {
+        notes.push(format!(
+            "run: {r} samples/s (the recording's; the file had {})",
+            f.run.sample_rate_hz
+        ));
+        f.run.sample_rate_hz = r;
+    }
+    notes
+}
+
 /// The effects from the diagnosis.
 pub fn effects(
     file: &InstrumentFile,
@@ -190,6 +225,7 @@ pub fn effects(
     if let Some(n) = temperature(&mut f, rec, origin_s) {
         notes.push(n);
     }
+    notes.extend(run_plan(&mut f, rec, dwell_s));
     for p in physics.iter().filter(|p| p.verdict != Verdict::Modelled) {
         let n = set(&mut f, p, rec, dwell_s, origin_s);
         if !n.is_empty() {

@@ -7,6 +7,7 @@
 mod compare;
 mod fix;
 mod physics;
+mod plan;
 mod positions;
 mod profile;
 mod replay;

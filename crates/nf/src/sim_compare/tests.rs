@@ -26,3 +26,21 @@ fn a_replay_keeps_the_plan_and_the_columns() {
         assert!((a.rate_dph - b.rate_dph).abs() < 0.05, "{} {}", a.rate_dph, b.rate_dph);
     }
 }
+
+#[test]
+fn the_plan_is_read_back_from_the_recording() {
+    let mut file = InstrumentFile::default();
+    assert_eq!(plan::infer(&simulated(&file)), Some((72, "sequential".to_string())));
+    file.run.positions = 24;
+    file.run.order = "forward-back".into();
+    file.run.dwell_s = 0.5;
+    let rec = simulated(&file);
+    assert_eq!(plan::infer(&rec), Some((24, "forward-back".to_string())));
+    assert!((dwell_of(&rec, 9.0) - 0.5).abs() < 1e-9);
+    file.run.positions = 8;
+    file.run.order = "3,0,7,1,2,6,5,4".into();
+    assert_eq!(plan::infer(&simulated(&file)), Some((8, "3,0,7,1,2,6,5,4".to_string())));
+    let mut off = simulated(&file);
+    off.rows[2].encoder_deg += 7.0;
+    assert_eq!(plan::infer(&off), None);
+}
