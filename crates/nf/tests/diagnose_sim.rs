@@ -181,7 +181,14 @@ fn the_recording_s_plan_goes_into_the_fixed_file() {
     with.run.dwell_s = 1.0;
     let s = against(&recording(&with), &base());
     let run = &s.fixed.file.run;
-    assert_eq!((run.positions, run.order.as_str(), run.dwell_s), (24, "forward-back", 1.0));
-    assert!(s.fixed.changes.iter().any(|c| c.starts_with("run: 24 positions")), "{:?}", s.fixed.changes);
+    assert_eq!(
+        (run.positions, run.order.as_str(), run.dwell_s),
+        (24, "forward-back", 1.0)
+    );
+    assert!(
+        s.fixed.changes.iter().any(|c| c.starts_with("run: 24 positions")),
+        "{:?}",
+        s.fixed.changes
+    );
     assert!(s.fixed.after.mismatches() <= 1);
 }
