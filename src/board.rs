@@ -6,9 +6,10 @@
 //! | encoder (BiSS-C)  | SPI2, mode 2      | PB13 MA (SCK), PB14 SLO (MISO), PB15 unused MOSI | DMA1 ch4 TX, ch3 RX |
 //! | inclinometer      | USART2, 115200, interrupt-buffered | PA2 TX, PA3 RX |          |
 //! | host link         | USART1, 115200    | PA9 TX, PA10 RX             | DMA2 ch7 TX, ch5 RX |
-//! | stepper driver    | GPIO              | PE9 STEP, PE10 DIR          |                |
+//! | stepper driver    | TIM1 CH1, GPIO    | PE9 STEP (AF1), PE10 DIR    | TIM1_UP_TIM10  |
 //! | gyro temperature  | ADC1 IN10         | PC0 (10 mV/C sensor)        |                |
 
+use crate::step_timer::Tim1Steps;
 use embassy_stm32::adc::{Adc, SampleTime};
 use embassy_stm32::exti::{self, ExtiInput};
 use embassy_stm32::flash::{self, Flash};
@@ -70,7 +71,7 @@ pub struct Board {
     pub encoder_spi: Spi<'static, Async, spi::mode::Master>,
     pub inclinometer: BufferedUart<'static>,
     pub host: Uart<'static, Async>,
-    pub step: Output<'static>,
+    pub step: Tim1Steps,
     pub dir: Output<'static>,
     pub thermometer: GyroThermometer,
     pub watchdog: IndependentWatchdog<'static, peripherals::IWDG>,
@@ -150,7 +151,7 @@ pub fn init(p: Peripherals) -> Board {
         encoder_spi,
         inclinometer,
         host,
-        step: Output::new(p.PE9, Level::Low, Speed::VeryHigh),
+        step: Tim1Steps::new(p.TIM1, p.PE9),
         dir: Output::new(p.PE10, Level::Low, Speed::VeryHigh),
         thermometer: GyroThermometer {
             adc: Adc::new(p.ADC1),

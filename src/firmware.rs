@@ -13,6 +13,7 @@ use embassy_stm32::gpio::Output;
 use embassy_stm32::interrupt::{InterruptExt, Priority};
 use embassy_stm32::mode::Async;
 // The PAC's `interrupt`: the handler attribute and the vector names it checks.
+use crate::step_timer::Tim1Steps;
 use embassy_stm32::pac::interrupt;
 use embassy_stm32::peripherals::IWDG;
 use embassy_stm32::spi::{self, Spi};
@@ -34,7 +35,8 @@ use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, Sink};
 use nf_instrument::session::{Action, LineAssembler, Session};
 use nf_instrument::settings;
 use nf_instrument::settings_store::SettingsStore;
-use nf_instrument::stepper::{self, StepDir};
+use nf_instrument::step_train::TimedStepDir;
+use nf_instrument::stepper;
 use static_cell::ConstStaticCell;
 use {defmt_rtt as _, panic_probe as _};
 
@@ -194,7 +196,7 @@ async fn link_rx_task(mut rx: RingBufferedUartRx<'static>) {
     }
 }
 
-type Motor = StepDir<Output<'static>, Output<'static>, EmbassyClock>;
+type Motor = TimedStepDir<Tim1Steps, Output<'static>>;
 type Hw = Instrument<
     Motor,
     Spi<'static, Async, spi::mode::Master>,
@@ -311,7 +313,7 @@ async fn main(spawner: Spawner) {
     // Infallible: the CS pin cannot fail.
     let adc_dev = ExclusiveDevice::new(b.adc_spi, b.adc_cs, Delay).unwrap();
     let hw = Instrument {
-        motor: StepDir::new(b.step, b.dir, EmbassyClock, stepper::Config::default()),
+        motor: TimedStepDir::new(b.step, b.dir, stepper::Config::default()),
         encoder: BissEncoder::new(b.encoder_spi, encoder::Config::default()),
         gyro: SampleQueue,
         inclinometer: Inclinometer::new(b.inclinometer, Default::default()),

@@ -8,6 +8,8 @@
 mod board;
 #[cfg(target_os = "none")]
 mod firmware;
+#[cfg(target_os = "none")]
+mod step_timer;
 
 #[cfg(not(target_os = "none"))]
 mod host;

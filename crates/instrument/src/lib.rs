@@ -21,6 +21,7 @@ pub mod run;
 pub mod session;
 pub mod settings;
 pub mod settings_store;
+pub mod step_train;
 pub mod stepper;
 
 #[cfg(test)]

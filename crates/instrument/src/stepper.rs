@@ -1,7 +1,6 @@
-//! Stepper motor through a step/dir driver, with a trapezoidal speed profile.
+//! Stepper motor through a step/dir driver, with a trapezoidal speed profile; the pulses come
+//! from a hardware timer (`step_train`).
 
-use crate::clock::Clock;
-use embedded_hal::digital::OutputPin;
 use nf_model::Float;
 
 /// Why a move failed.
@@ -15,7 +14,7 @@ pub enum MotorError {
 }
 
 /// How often a move asks whether to stop, microseconds of stepping.
-const STOP_CHECK_US: u32 = 20_000;
+pub(crate) const STOP_CHECK_US: u32 = 20_000;
 
 /// The motor and its profile.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,57 +63,9 @@ pub trait Motor {
     fn steps_per_rev(&self) -> u32;
 }
 
-/// A step/dir driver on two GPIO pins, timed by a [`Clock`].
-pub struct StepDir<STEP, DIR, C> {
-    step: STEP,
-    dir: DIR,
-    clock: C,
-    cfg: Config,
-}
-
-impl<STEP: OutputPin, DIR: OutputPin, C: Clock> StepDir<STEP, DIR, C> {
-    pub fn new(step: STEP, dir: DIR, clock: C, cfg: Config) -> Self {
-        StepDir { step, dir, clock, cfg }
-    }
-}
-
-impl<STEP: OutputPin, DIR: OutputPin, C: Clock> Motor for StepDir<STEP, DIR, C> {
-    async fn move_steps(&mut self, steps: i32, stop: &mut dyn FnMut() -> bool) -> Result<(), MotorError> {
-        if steps >= 0 {
-            self.dir.set_high()
-        } else {
-            self.dir.set_low()
-        }
-        .map_err(|_| MotorError::Pin)?;
-        let n = steps.unsigned_abs();
-        let mut since_check = STOP_CHECK_US;
-        for i in 0..n {
-            if since_check >= STOP_CHECK_US {
-                if stop() {
-                    return Err(MotorError::Stopped);
-                }
-                since_check = 0;
-            }
-            since_check += self.cfg.interval_us(i, n);
-            self.step.set_high().map_err(|_| MotorError::Pin)?;
-            self.clock.delay_us(self.cfg.pulse_us as u64).await;
-            self.step.set_low().map_err(|_| MotorError::Pin)?;
-            let rest = self.cfg.interval_us(i, n).saturating_sub(self.cfg.pulse_us);
-            self.clock.delay_us(rest as u64).await;
-        }
-        Ok(())
-    }
-
-    fn steps_per_rev(&self) -> u32 {
-        self.cfg.steps_per_rev
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::clock::Count;
-    use embedded_hal_mock::eh1::digital::{Mock, State, Transaction as T};
     use std::vec::Vec;
 
     #[test]
@@ -131,21 +82,5 @@ mod tests {
         // A 5 deg move takes about 0.2 s.
         let total: u64 = iv.iter().map(|&v| v as u64).sum();
         assert!(total < 250_000, "{total}");
-    }
-
-    #[test]
-    fn pulses_and_direction() {
-        let mut step = Mock::new(&[
-            T::set(State::High),
-            T::set(State::Low),
-            T::set(State::High),
-            T::set(State::Low),
-        ]);
-        let mut dir = Mock::new(&[T::set(State::Low)]);
-        let mut m = StepDir::new(step.clone(), dir.clone(), Count(0), Config::default());
-        embassy_futures::block_on(m.move_steps(-2, &mut || false)).unwrap();
-        assert_eq!(m.clock.0, 5000);
-        step.done();
-        dir.done();
     }
 }

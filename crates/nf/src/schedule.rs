@@ -2,6 +2,7 @@
 //! profile for each move (a half turn costs more than a small step), the settling time and the
 //! dwell. The planner needs it to know the time structure the gyro's noise acts on.
 
+use nf_instrument::step_train::Train;
 use nf_instrument::stepper;
 use nf_model::order::Order;
 
@@ -27,9 +28,14 @@ impl Default for Timing {
 }
 
 impl Timing {
-    /// Time of a move over `steps` motor steps, by the firmware's trapezoidal profile.
+    /// Time of a move over `steps` motor steps: the firmware's step train, the trapezoidal
+    /// profile as its timer makes it (the move ends with the last pulse).
     pub fn move_s(&self, steps: u32) -> f64 {
-        (0..steps).map(|i| self.motor.interval_us(i, steps) as f64).sum::<f64>() * 1e-6
+        if steps == 0 {
+            return 0.0;
+        }
+        let train = Train::new(self.motor, steps);
+        (0..steps).map(|k| train.period(k).arr as f64 + 1.0).sum::<f64>() * 1e-6
     }
 
     /// Motor steps of the shortest move between positions `a` and `b` of `n`.

@@ -1,6 +1,7 @@
 //! The twin's side of each wire: what the firmware's drivers talk to.
 
 use crate::biss::Frame;
+use crate::step_timer::TwinStepTimer;
 use crate::world::{InclinometerFault, TwinConfig, World};
 use core::convert::Infallible;
 use embedded_hal::spi::Operation;
@@ -9,7 +10,7 @@ use nf_instrument::clock::Clock;
 use nf_instrument::encoder::{self, BissEncoder};
 use nf_instrument::inclinometer::Inclinometer;
 use nf_instrument::run::{Instrument, RunConfig, Thermometer};
-use nf_instrument::stepper::StepDir;
+use nf_instrument::step_train::TimedStepDir;
 use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::rc::Rc;
@@ -30,25 +31,8 @@ impl Clock for TwinClock {
     }
 }
 
-/// The step pin of the motor driver.
-pub struct StepPin(Shared);
 /// The direction pin (high: counter-clockwise).
 pub struct DirPin(Shared);
-
-impl embedded_hal::digital::ErrorType for StepPin {
-    type Error = Infallible;
-}
-
-impl embedded_hal::digital::OutputPin for StepPin {
-    fn set_high(&mut self) -> Result<(), Infallible> {
-        self.0.borrow_mut().step();
-        Ok(())
-    }
-
-    fn set_low(&mut self) -> Result<(), Infallible> {
-        Ok(())
-    }
-}
 
 impl embedded_hal::digital::ErrorType for DirPin {
     type Error = Infallible;
@@ -301,7 +285,7 @@ impl Thermometer for Thermo {
 
 /// The firmware's drivers on the twin's wires.
 pub type TwinInstrument =
-    Instrument<StepDir<StepPin, DirPin, TwinClock>, EncoderBus, Ads1256<AdcSpi, Drdy>, InclUart, Thermo, TwinClock>;
+    Instrument<TimedStepDir<TwinStepTimer, DirPin>, EncoderBus, Ads1256<AdcSpi, Drdy>, InclUart, Thermo, TwinClock>;
 
 /// Builds the twin and the firmware's drivers on it, the ADC started as the firmware does at
 /// boot.
@@ -320,7 +304,7 @@ pub fn instrument(cfg: &TwinConfig, run: &RunConfig) -> (TwinInstrument, Shared)
     embassy_futures::block_on(adc.start(&Default::default(), &mut clock.clone()))
         .expect("the twin's ADC reads its registers back");
     let hw = Instrument {
-        motor: StepDir::new(StepPin(world.clone()), DirPin(world.clone()), clock.clone(), cfg.motor),
+        motor: TimedStepDir::new(TwinStepTimer::new(world.clone()), DirPin(world.clone()), cfg.motor),
         encoder: BissEncoder::new(
             EncoderBus(world.clone()),
             encoder::Config {

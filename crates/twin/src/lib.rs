@@ -8,6 +8,7 @@ pub mod biss;
 mod devices;
 pub mod noise;
 mod static_log;
+mod step_timer;
 mod world;
 
 pub use devices::{TwinInstrument, instrument};
