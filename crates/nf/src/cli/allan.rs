@@ -3,7 +3,7 @@
 
 use super::Fail;
 use crate::allan::{CI_LEVEL, Point, adev_interval};
-use crate::allan_fit::{ALPHA, AllanFit, Param, Term, fit_series};
+use crate::allan_fit::{ALPHA, AllanFit, Term, fit_series};
 use crate::allan_model::{curve_taus, floor};
 use crate::allan_source::Source;
 use crate::noise_file;
@@ -11,8 +11,9 @@ use crate::plot::{self, Panel, Series, Style};
 use crate::range::above;
 use crate::report::Page;
 use nf_model::noise::{NoiseModel, flicker_floor_factor};
-use serde_json::{Value, json};
 use std::io::Write;
+
+mod json;
 
 #[derive(clap::Args)]
 pub struct AllanArgs {
@@ -122,17 +123,12 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     Ok(())
 }
 
-/// The terms as (term, JSON key, label, unit).
-const TERMS: [(Term, &str, &str, &str); 4] = [
-    (Term::Arw, "arw_deg_rth", "N (angle random walk)", "deg/sqrt(h)"),
-    (
-        Term::BiasInstability,
-        "bias_instability_dph",
-        "B (bias instability)",
-        "deg/h",
-    ),
-    (Term::Rrw, "rrw_dph_rth", "K (rate random walk)", "deg/h/sqrt(h)"),
-    (Term::Quantization, "quantization_arcsec", "Q (quantisation)", "arcsec"),
+/// The terms as (term, label, unit).
+const TERMS: [(Term, &str, &str); 4] = [
+    (Term::Arw, "N (angle random walk)", "deg/sqrt(h)"),
+    (Term::BiasInstability, "B (bias instability)", "deg/h"),
+    (Term::Rrw, "K (rate random walk)", "deg/h/sqrt(h)"),
+    (Term::Quantization, "Q (quantisation)", "arcsec"),
 ];
 
 fn describe_source(file: &str, src: &Source) -> String {
@@ -188,7 +184,7 @@ impl Report<'_> {
             fit.dof,
             g(fit.chi2 / fit.dof as f64)
         );
-        for (term, _, label, unit) in TERMS {
+        for (term, label, unit) in TERMS {
             let line = match fit.param(term) {
                 Some(p) if p.value > 0.0 => format!("{} +- {} {unit}", g(p.value), g(p.sigma)),
                 Some(p) => format!("0 (1-sigma bound {} {unit})", g(p.sigma)),
@@ -216,49 +212,6 @@ impl Report<'_> {
             g(ft)
         );
         out
-    }
-
-    fn json(&self) -> Value {
-        let (src, fit) = (self.src, self.fit);
-        let mut j = json!({
-            "source": {
-                "file": self.file,
-                "kind": src.kind.name(),
-                "samples": src.rates.len(),
-                "segments": src.spacing.segments.len(),
-                "gaps": src.spacing.gaps.iter().map(|g| json!({"line": g.line, "from_s": g.from_s, "to_s": g.to_s})).collect::<Vec<_>>(),
-                "step_s": src.sampling.step_s,
-                "window_s": src.sampling.window_s,
-                "notes": src.notes,
-            },
-            "ci_level": CI_LEVEL,
-            "curve": self.rows().map(|(p, edf, (lo, hi))| json!({
-                "tau_s": p.tau_s, "adev_dph": p.avar.sqrt(), "lo_dph": lo, "hi_dph": hi,
-                "clusters": p.clusters, "edf": edf,
-            })).collect::<Vec<_>>(),
-            "fit_chi2": fit.chi2,
-            "fit_dof": fit.dof,
-            "fit_chi2_per_dof": fit.chi2 / fit.dof as f64,
-            "tests": {
-                "alpha": ALPHA,
-                "quantization": fit.q_test.map(|t| json!({"f": t.f, "p_value": t.p_value})),
-                "gauss_markov": fit.gm_test.map(|(tau, t)| json!({"tau_s": tau, "f": t.f, "p_value": t.p_value})),
-            },
-        });
-        let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
-        j["floor"] = json!({"measured_tau_s": mt, "measured_adev_dph": ma, "fitted_tau_s": ft, "fitted_adev_dph": fa});
-        let mut put = |key: &str, p: Option<Param>| {
-            j[key] = json!(p.map_or(0.0, |p| p.value));
-            j[format!("{key}_sigma")] = json!(p.map(|p| p.sigma));
-        };
-        for (term, key, _, _) in TERMS {
-            put(key, fit.param(term));
-        }
-        if let Some((s, tau)) = fit.gm() {
-            put("gm_sigma_dph", Some(s));
-            j["gm_tau_s"] = json!(tau);
-        }
-        j
     }
 
     fn panel(&self) -> Panel {

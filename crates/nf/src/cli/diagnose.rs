@@ -2,7 +2,7 @@
 
 use super::noise_args::NoiseArgs;
 use super::{Fail, diagnose_sim, read_recording, write_out};
-use crate::diagnose::{Diagnosis, Options, Point, Summary, diagnose};
+use crate::diagnose::{Diagnosis, Options, Point, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
 use crate::instrument_file::InstrumentFile;
 use crate::noise_fit::NoiseChoice;
@@ -10,10 +10,11 @@ use crate::plot::{self, Panel, Series, Style};
 use crate::range::above;
 use crate::recording::Recording;
 use crate::report::Page;
-use crate::sim_compare::{self, SimReport};
+use crate::sim_compare;
 use nf_model::noise::NoiseModel;
-use serde_json::{Value, json};
 use std::io::Write;
+
+mod json;
 
 /// Positions beyond which a diagnosis takes over a second on this machine.
 const SLOW_POSITIONS: usize = 220;
@@ -125,7 +126,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         writeln!(
             out,
             "{}",
-            serde_json::to_string_pretty(&with_sim(diagnosis_json(&d), &sim)).unwrap_or_default()
+            serde_json::to_string_pretty(&json::diagnosis_json(&d, sim.as_ref())).unwrap_or_default()
         )?;
         if a.report.is_none() {
             return Ok(());
@@ -203,49 +204,6 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
         ),
         panel("residuals against time", "time (s)", |p| p.t_s),
     ]
-}
-
-fn with_sim(mut j: Value, sim: &Option<SimReport>) -> Value {
-    if let (Some(s), Some(m)) = (sim, j.as_object_mut()) {
-        m.insert("simulation".into(), diagnose_sim::json(s));
-    }
-    j
-}
-
-fn summary_json(s: &Summary) -> Value {
-    json!({"azimuth_deg": s.azimuth_deg, "rss": s.rss, "sigma_arcsec": s.sigma_arcsec})
-}
-
-fn diagnosis_json(d: &Diagnosis) -> Value {
-    let f: Vec<Value> = d
-        .findings
-        .iter()
-        .map(|f| {
-            let params: serde_json::Map<String, Value> = f
-                .parameters
-                .iter()
-                .map(|p| (p.name.clone(), json!({"value": p.value, "sigma": p.sigma})))
-                .collect();
-            let after = (!f.effect.is_noise()).then(|| summary_json(&f.after));
-            json!({"effect": f.effect.name(), "noise": f.effect.is_noise(), "parameters": params, "p_value": f.p_value,
-                   "where": f.location, "after": after})
-        })
-        .collect();
-    let m = &d.noise_model;
-    json!({
-        "alpha": d.alpha,
-        "noise_model": {"arw_deg_rth": m.arw_deg_rth, "bias_instability_dph": m.bias_instability_dph,
-                        "rrw_dph_rth": m.rrw_dph_rth, "source": d.noise_source,
-                        "cautious": {"bias_instability_dph": d.cautious_model.bias_instability_dph, "rrw_dph_rth": d.cautious_model.rrw_dph_rth},
-                        "with_drift": {"bias_instability_dph": d.drift_model.bias_instability_dph, "rrw_dph_rth": d.drift_model.rrw_dph_rth}},
-        "baseline": summary_json(&d.baseline),
-        "findings": f,
-        "selected": summary_json(&d.selected),
-        "final": summary_json(&d.final_),
-        "models": d.models.iter().map(|w| json!({"model": w.label, "weight": w.weight,
-            "azimuth_deg": w.summary.azimuth_deg, "sigma_arcsec": w.summary.sigma_arcsec})).collect::<Vec<_>>(),
-        "notes": d.notes,
-    })
 }
 
 fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {

@@ -3,28 +3,72 @@
 
 use crate::plot::{Panel, Series, Style};
 use crate::sim_compare::{Comparison, Quantity, Residuals, SimReport, Verdict, Where};
-use serde_json::{Value, json};
+use serde::Serialize;
 use std::io::Write;
 
-fn comparison_json(c: &Comparison) -> Value {
-    json!({
-        "replays": c.replays,
-        "mismatches": c.mismatches(),
-        "quantities": c.lines.iter().map(|l| json!({
-            "quantity": l.quantity.to_string(), "recording": l.recording, "simulated": l.simulated,
-            "simulated_sd": l.simulated_sd, "z": l.z, "p": l.p, "mismatch": l.mismatch,
-        })).collect::<Vec<_>>(),
-    })
+/// The `simulation` object of `nf diagnose --sim --json`: the physics the simulation lacks and
+/// the mismatch before and after the fix. The fields of each struct are in alphabetical order,
+/// the order the keys have always had.
+#[derive(Serialize)]
+pub struct SimJson<'a> {
+    /// The comparison with the fixed instrument file.
+    after: ComparisonJson,
+    /// The comparison with the instrument file as given.
+    before: ComparisonJson,
+    /// What the fix changed in the instrument file.
+    changes: &'a [String],
+    /// Dwell of the recording's plan, s.
+    dwell_s: f64,
+    /// Each effect: in the recording, in the simulation, and the verdict.
+    physics: Vec<PhysicsJson<'a>>,
+    /// Where the recording departs from the fixed file's replays.
+    positions_after: WhereJson,
+    /// Where it departs from the replays of the file as given.
+    positions_before: WhereJson,
 }
 
-fn where_json(w: &Where) -> Value {
-    json!({
-        "beyond": w.beyond,
-        "largest": w.largest.iter().map(|d| json!({
-            "index": d.index, "gamma_deg": d.gamma_deg, "t_s": d.t_s,
-            "difference_dph": d.difference_dph, "z": d.z, "significant": d.significant,
-        })).collect::<Vec<_>>(),
-    })
+/// Where the recording departs from the replays, position by position.
+#[derive(Serialize)]
+struct WhereJson {
+    /// Positions beyond the Bonferroni bound.
+    beyond: usize,
+    /// The largest departures, largest first.
+    largest: Vec<DepartureJson>,
+}
+
+/// One position's Eq. 7 residual against the replays'.
+#[derive(Serialize)]
+struct DepartureJson {
+    /// Recording less the replays' mean, deg/h.
+    difference_dph: f64,
+    /// Encoder angle, deg.
+    gamma_deg: f64,
+    /// Visit number.
+    index: u32,
+    /// Beyond the Bonferroni bound.
+    significant: bool,
+    /// Time of the dwell's middle, s.
+    t_s: f64,
+    /// The difference in units of the prediction sd (dimensionless).
+    z: f64,
+}
+
+fn where_json(w: &Where) -> WhereJson {
+    WhereJson {
+        beyond: w.beyond,
+        largest: w
+            .largest
+            .iter()
+            .map(|d| DepartureJson {
+                difference_dph: d.difference_dph,
+                gamma_deg: d.gamma_deg,
+                index: d.index,
+                significant: d.significant,
+                t_s: d.t_s,
+                z: d.z,
+            })
+            .collect(),
+    }
 }
 
 fn where_text(out: &mut impl Write, label: &str, w: &Where) -> std::io::Result<()> {
@@ -50,20 +94,94 @@ fn where_text(out: &mut impl Write, label: &str, w: &Where) -> std::io::Result<(
     )
 }
 
-pub fn json(s: &SimReport) -> Value {
-    json!({
-        "dwell_s": s.dwell_s,
-        "physics": s.physics.iter().map(|p| json!({
-            "effect": p.kind.name(), "verdict": format!("{:?}", p.verdict),
-            "parameter": p.parameter.name, "recording": p.parameter.value, "sigma": p.parameter.sigma,
-            "simulated": p.simulated,
-        })).collect::<Vec<_>>(),
-        "before": comparison_json(&s.before),
-        "after": comparison_json(&s.fixed.after),
-        "positions_before": where_json(&s.places),
-        "positions_after": where_json(&s.fixed.places),
-        "changes": s.fixed.changes,
-    })
+/// One effect, in the recording and in the simulation.
+#[derive(Serialize)]
+struct PhysicsJson<'a> {
+    /// The effect's name.
+    effect: &'static str,
+    /// The parameter compared; its unit is the one its name ends with.
+    parameter: &'a str,
+    /// The parameter's value in the recording.
+    recording: f64,
+    /// Its standard error in the recording; null where the fit gives none.
+    sigma: Option<f64>,
+    /// The parameter's value in the simulation.
+    simulated: f64,
+    /// Missing, Different, Modelled or OnlyInSimulation.
+    verdict: String,
+}
+
+/// The recording against replays of the simulation.
+#[derive(Serialize)]
+struct ComparisonJson {
+    /// Quantities beyond the Bonferroni bound.
+    mismatches: usize,
+    /// Each quantity compared.
+    quantities: Vec<QuantityJson>,
+    /// Replays of the simulation.
+    replays: usize,
+}
+
+/// One quantity, in the quantity's own unit (the one its name ends with).
+#[derive(Serialize)]
+struct QuantityJson {
+    /// Beyond the Bonferroni bound at the false-alarm rate.
+    mismatch: bool,
+    /// p-value of z (Student-t on the replays' degrees of freedom).
+    p: f64,
+    /// The quantity's name.
+    quantity: String,
+    /// Its value in the recording.
+    recording: f64,
+    /// Its mean over the replays.
+    simulated: f64,
+    /// Its spread over the replays.
+    simulated_sd: f64,
+    /// (recording - simulated) in units of the prediction sd (dimensionless).
+    z: f64,
+}
+
+fn comparison_json(c: &Comparison) -> ComparisonJson {
+    ComparisonJson {
+        mismatches: c.mismatches(),
+        quantities: c
+            .lines
+            .iter()
+            .map(|l| QuantityJson {
+                mismatch: l.mismatch,
+                p: l.p,
+                quantity: l.quantity.to_string(),
+                recording: l.recording,
+                simulated: l.simulated,
+                simulated_sd: l.simulated_sd,
+                z: l.z,
+            })
+            .collect(),
+        replays: c.replays,
+    }
+}
+
+pub fn json(s: &SimReport) -> SimJson<'_> {
+    SimJson {
+        after: comparison_json(&s.fixed.after),
+        before: comparison_json(&s.before),
+        changes: &s.fixed.changes,
+        dwell_s: s.dwell_s,
+        physics: s
+            .physics
+            .iter()
+            .map(|p| PhysicsJson {
+                effect: p.kind.name(),
+                parameter: &p.parameter.name,
+                recording: p.parameter.value,
+                sigma: p.parameter.sigma,
+                simulated: p.simulated,
+                verdict: format!("{:?}", p.verdict),
+            })
+            .collect(),
+        positions_after: where_json(&s.fixed.places),
+        positions_before: where_json(&s.places),
+    }
 }
 
 pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {

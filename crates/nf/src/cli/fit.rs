@@ -12,9 +12,9 @@ use clap::ValueEnum;
 use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
 use nf_model::noise::NoiseModel;
-use nf_model::uncertainty::Budget;
-use serde_json::{Value, json};
 use std::io::Write;
+
+mod json;
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum TiltArg {
@@ -63,55 +63,6 @@ pub struct FitArgs {
     /// The gyro's noise model; without one it is estimated from the recording.
     #[command(flatten)]
     noise: NoiseArgs,
-}
-
-fn fit_json(an: &Analysis) -> Value {
-    let f = &an.fit;
-    let g = &an.gls;
-    let m = &g.model;
-    let (d1, d2) = f.drift();
-    let b = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
-    let unresolved = g.unresolved(an.amplitude_predicted_dph);
-    json!({
-        "azimuth_deg": g.psi_deg,
-        "surveying_azimuth_deg": surveying_azimuth_deg(g.psi_deg),
-        "sigma_arcsec": g.sigma_psi_deg * 3600.0,
-        "earth_rate_resolved": unresolved.is_none(),
-        "not_resolved_because": unresolved,
-        "method": "generalised least squares under the gyro noise model",
-        "noise_model": {
-            "source": g.source.describe(),
-            "arw_deg_rth": m.arw_deg_rth,
-            "bias_instability_dph": m.bias_instability_dph,
-            "rrw_dph_rth": m.rrw_dph_rth,
-            "gm_sigma_dph": m.gm_sigma_dph,
-            "gm_tau_s": m.gm_tau_s,
-            "quantization_arcsec": m.quantization_arcsec,
-            "dwell_s": g.dwell_s,
-            "dwell_from": g.dwell_from,
-            "chi2": g.chi2,
-            "chi2_dof": g.dof,
-        },
-        "ols": {"azimuth_deg": f.psi_deg, "sigma_arcsec": f.sigma_psi_deg * 3600.0, "note": "white-noise least squares, sigma from the residuals"},
-        "rss": f.rss,
-        "n": f.n,
-        "dof": f.dof,
-        "latitude_deg": an.latitude_deg,
-        "amplitude_dph": g.amplitude_dph,
-        "sigma_amplitude_dph": g.sigma_amplitude_dph,
-        "amplitude_predicted_dph": an.amplitude_predicted_dph,
-        "scale_factor": g.amplitude_dph / an.amplitude_predicted_dph,
-        "offset_dph": f.offset_dph,
-        "sigma_gyro_dph": an.sigma_gyro_dph,
-        "drift_dph_per_s": d1,
-        "drift_dph_per_s2": d2,
-        "tilt_correction": an.method.name(),
-        "tilt_bridged_positions": an.tilt_bridged,
-        "shaft_tilt_deg": an.shaft.map(|s| s.tilt_deg),
-        "shaft_tilt_dir_deg": an.shaft.map(|s| s.tilt_dir_deg),
-        "budget_eq31_paper": b(&an.budget_paper),
-        "budget_exact": b(&an.budget_exact),
-    })
 }
 
 pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
@@ -274,7 +225,7 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         writeln!(
             stdout,
             "{}",
-            serde_json::to_string_pretty(&fit_json(&an)).unwrap_or_default()
+            serde_json::to_string_pretty(&json::fit_json(&an)).unwrap_or_default()
         )?;
     } else {
         stdout.write_all(&out)?;

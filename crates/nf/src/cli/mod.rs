@@ -4,6 +4,7 @@ mod allan;
 mod diagnose;
 mod diagnose_sim;
 mod fit;
+mod json;
 mod log;
 mod noise_args;
 mod paper;

@@ -5,8 +5,9 @@ use crate::plot::{Panel, Series, Style};
 use crate::{paper, plot};
 use nf_model::paper::{eq24_arcsec, eq30_arcsec};
 use nf_model::uncertainty::tilt_arcsec;
-use serde_json::json;
 use std::io::Write;
+
+mod json;
 
 #[derive(clap::Args)]
 pub struct PaperArgs {
@@ -73,18 +74,13 @@ pub fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
     }
     let mut out = std::io::stdout().lock();
     if a.json {
-        let j = json!({
-            "eq24_arcsec": ns.iter().map(|&n| json!({"n": n, "values": sws.iter().map(|&s| json!({"sigma_w_dph": s, "arcsec": eq24_arcsec(n, s, paper::LAT)})).collect::<Vec<_>>()})).collect::<Vec<_>>(),
-            "fig7": etas.iter().map(|&h| json!({"eta_deg": h, "eq30_arcsec": epss.iter().map(|&e| eq30_arcsec(180, paper::LAT, 45.0, h, e, h)).collect::<Vec<_>>(), "exact_arcsec": tilt_arcsec(h, paper::LAT)})).collect::<Vec<_>>(),
-            "tables": tables.iter().map(|(t, r)| json!({
-                "table": t.number, "n": t.n,
-                "stated": {"mean_deg": t.stated_mean_deg, "sd_arcsec": t.stated_sd_arcsec, "rss_max": t.stated_rss_max},
-                "recomputed": {"mean_deg": r.mean_deg, "sd_arcsec": r.sd_arcsec, "rss_max": r.rss_max},
-                "rss_unit": t.rss_unit,
-            })).collect::<Vec<_>>(),
-            "eq31": paper::STATED_EQ31.iter().map(|&(n, s)| json!({"n": n, "stated_arcsec": s, "paper_equations_arcsec": paper::eq31_paper(n), "exact_arcsec": paper::eq31_exact(n)})).collect::<Vec<_>>(),
-            "findings": findings,
-        });
+        let grids = json::Grids {
+            ns: &ns,
+            sws: &sws,
+            etas: &etas,
+            epss: &epss,
+        };
+        let j = json::paper_json(&grids, &tables, &findings);
         writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
         return Ok(());
     }

@@ -8,12 +8,14 @@ use crate::range::{MAX_LATITUDE_DEG, above, real};
 use crate::schedule::{Schedule, Timing};
 use crate::twin_check::{self, RunSpec, TwinCheck};
 use crate::{plan, plot};
+use json::{AllowanceJson, CandidateJson, MonteCarloJson, NoiseBudgetJson, PlanJson, TwinCheckJson};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
 use nf_model::uncertainty::{Budget, allocate, tilt_arcsec};
-use serde_json::{Value, json};
 use std::io::Write;
+
+mod json;
 
 #[derive(clap::Args)]
 pub struct PlanArgs {
@@ -75,10 +77,6 @@ pub struct PlanArgs {
     /// Plot the uncertainty against n (*.svg or *.png).
     #[arg(long)]
     plot: Option<String>,
-}
-
-fn candidate_json(c: &Candidate) -> Value {
-    json!({"order": c.order, "n": c.n, "dwell_s": c.dwell_s, "time_s": c.time_s, "sigma_arcsec": c.sigma_arcsec})
 }
 
 fn describe(c: &Candidate) -> String {
@@ -198,27 +196,40 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         };
         plot::write(p, &[panel])?;
     }
-    let bj = |b: &Budget<f64>| json!({"gyro_arcsec": b.gyro_arcsec, "encoder_arcsec": b.encoder_arcsec, "tilt_arcsec": b.tilt_arcsec, "total_arcsec": b.total_arcsec});
     let mut out = std::io::stdout().lock();
     if a.json {
-        let j = json!({
-            "n": a.n, "dwell_s": a.dwell, "order": order.name(), "time_s": time_s,
-            "gyro_dph_per_position": s.gyro_dph,
-            "noise_model": {"arw_deg_rth": model.arw_deg_rth, "bias_instability_dph": model.bias_instability_dph, "rrw_dph_rth": model.rrw_dph_rth, "gm_sigma_dph": model.gm_sigma_dph, "gm_tau_s": model.gm_tau_s, "quantization_arcsec": model.quantization_arcsec},
-            "budget_noise_model": {"gyro_arcsec": noise_gyro, "total_arcsec": noise_total},
-            "budget_eq31_paper": bj(&paper_b), "budget_exact": bj(&exact_b), "budget_numerical": bj(&num_b),
-            "target_arcsec": a.target,
-            "fastest": search.as_ref().and_then(|p| p.fastest.as_ref()).map(candidate_json),
-            "fastest_per_order": search.as_ref().map(|p| p.per_order.iter().map(candidate_json).collect::<Vec<_>>()),
-            "floor": search.as_ref().and_then(|p| p.floor.as_ref()).map(candidate_json),
-            "paper_n_for_target": paper_n,
-            "allowance_for_target": allowance.map(|s| json!({"gyro_dph": s.gyro_dph, "encoder_deg": s.encoder_deg, "tilt_deg": s.tilt_deg})),
-            "twin_check": twin.as_ref().map(|(c, stated, k)| json!({
-                "runs": k.runs, "order": c.order, "n": c.n, "dwell_s": c.dwell_s,
-                "stated_gyro_arcsec": stated, "rms_error_arcsec": k.rms_error_arcsec,
-                "rms_error_over_sigma": k.rms_z, "mean_time_s": k.mean_time_s})),
-            "monte_carlo": mc.map(|(m, f)| json!({"runs": a.mc_runs, "sd_arcsec": m, "formula_arcsec": f})),
-        });
+        let j = PlanJson {
+            allowance_for_target: allowance.map(AllowanceJson::from),
+            budget_eq31_paper: (&paper_b).into(),
+            budget_exact: (&exact_b).into(),
+            budget_noise_model: NoiseBudgetJson {
+                gyro_arcsec: noise_gyro,
+                total_arcsec: noise_total,
+            },
+            budget_numerical: (&num_b).into(),
+            dwell_s: a.dwell,
+            fastest: search
+                .as_ref()
+                .and_then(|p| p.fastest.as_ref())
+                .map(CandidateJson::from),
+            fastest_per_order: search
+                .as_ref()
+                .map(|p| p.per_order.iter().map(CandidateJson::from).collect()),
+            floor: search.as_ref().and_then(|p| p.floor.as_ref()).map(CandidateJson::from),
+            gyro_dph_per_position: s.gyro_dph,
+            monte_carlo: mc.map(|(sd_arcsec, formula_arcsec)| MonteCarloJson {
+                formula_arcsec,
+                runs: a.mc_runs,
+                sd_arcsec,
+            }),
+            n: a.n,
+            noise_model: (&model).into(),
+            order: order.name(),
+            paper_n_for_target: paper_n,
+            target_arcsec: a.target,
+            time_s,
+            twin_check: twin.as_ref().map(|(c, stated, k)| TwinCheckJson::new(c, *stated, k)),
+        };
         writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
         return Ok(());
     }

@@ -8,7 +8,7 @@ use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
 use nf_twin::{Recorder, simulate};
-use serde_json::json;
+use serde::Serialize;
 
 #[derive(clap::Args)]
 pub struct SimArgs {
@@ -101,6 +101,42 @@ pub struct SimArgs {
     json: bool,
 }
 
+/// The summary `--json` prints on standard error: the truth and the run's result. The fields
+/// are in alphabetical order, the order the keys have always had.
+#[derive(Serialize)]
+struct SimJson {
+    /// Virtual time of the run, s.
+    duration_s: f64,
+    /// Why the run failed (Rust debug form); null when it finished.
+    error: Option<String>,
+    /// The firmware's azimuth psi, deg; null without a fit.
+    firmware_azimuth_deg: Option<f64>,
+    /// The firmware's sigma of psi from the residuals, arcsec; null without a fit or with no
+    /// degrees of freedom.
+    firmware_sigma_arcsec: Option<f64>,
+    /// A fit was made but its sigma is undefined (no degrees of freedom).
+    firmware_sigma_undefined: bool,
+    /// Dwells measured and written.
+    positions: u16,
+    /// The run ended early: the running sigma reached the target.
+    target_reached: bool,
+    /// The simulated azimuth psi, deg.
+    true_psi_deg: f64,
+    /// The firmware's running azimuth under the noise model; null without one.
+    under_noise: Option<UnderNoise>,
+}
+
+/// The firmware's running azimuth under the gyro's noise model.
+#[derive(Serialize)]
+struct UnderNoise {
+    /// Dwells in it.
+    dwells: u32,
+    /// Azimuth psi, deg.
+    psi_deg: f64,
+    /// Its 1-sigma uncertainty, arcsec.
+    sigma_arcsec: f64,
+}
+
 /// The instrument file the flags describe.
 fn from_flags(a: &SimArgs) -> Result<InstrumentFile, Fail> {
     Order::parse(&a.order)
@@ -168,17 +204,22 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     write_out(&a.out, &rec.text())?;
     let az = report.azimuth;
     if a.json {
-        let j = json!({
-            "true_psi_deg": psi,
-            "positions": report.positions,
-            "duration_s": world.t_s(),
-            "firmware_azimuth_deg": az.map(|x| x.psi_deg),
-            "firmware_sigma_arcsec": az.and_then(|x| x.sigma_arcsec),
-            "firmware_sigma_undefined": az.is_some_and(|x| x.sigma_arcsec.is_none()),
-            "under_noise": report.under_noise.map(|u| json!({"psi_deg": u.psi_deg, "sigma_arcsec": u.sigma_psi_deg * 3600.0, "dwells": u.dwells})),
-            "target_reached": report.target_reached,
-            "error": report.result.err().map(|e| format!("{e:?}")),
-        });
+        let j = SimJson {
+            duration_s: world.t_s(),
+            error: report.result.err().map(|e| format!("{e:?}")),
+            firmware_azimuth_deg: az.map(|x| f64::from(x.psi_deg)),
+            firmware_sigma_arcsec: az.and_then(|x| x.sigma_arcsec).map(f64::from),
+            firmware_sigma_undefined: az.is_some_and(|x| x.sigma_arcsec.is_none()),
+            positions: report.positions,
+            target_reached: report.target_reached,
+            true_psi_deg: psi,
+            under_noise: report.under_noise.map(|u| UnderNoise {
+                dwells: u.dwells,
+                psi_deg: u.psi_deg,
+                sigma_arcsec: u.sigma_psi_deg * 3600.0,
+            }),
+        };
+        let j = serde_json::to_string(&j).unwrap_or_default();
         note!("{j}");
     } else if let Some(x) = az {
         let sigma = x

@@ -2,7 +2,7 @@
 
 use super::{Evaluation, Tally};
 use crate::diagnose::Kind;
-use serde_json::{Value, json};
+use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -74,43 +74,105 @@ pub fn text(ev: &Evaluation, alpha: f64) -> String {
     out
 }
 
-fn counts_json(named: &BTreeMap<Kind, u32>) -> Value {
-    named
-        .iter()
-        .map(|(n, k)| (n.name().to_string(), json!(k)))
-        .collect::<serde_json::Map<_, _>>()
-        .into()
+/// The suite's results as JSON: rates that do not apply (no clean recordings in a row, say) are
+/// null. The fields of each struct are in alphabetical order, the order the keys have always had.
+#[derive(Serialize)]
+pub struct EvaluationJson<'a> {
+    /// Family-wise false-alarm rate of each selection step.
+    alpha: f64,
+    /// One entry per category of the suite.
+    categories: Vec<CategoryJson<'a>>,
 }
 
-fn tally_json(t: &Tally) -> Value {
-    json!({
-        "runs": t.runs,
-        "refused": t.refused,
-        "named_first_rate": t.named_first_rate(),
-        "set_recall": t.recall(),
-        "false_alarm_rate": t.false_alarm_rate(),
-        "rms_error_baseline_arcsec": t.rms_baseline(),
-        "rms_error_final_arcsec": t.rms_final(),
-        "worse_than_baseline_3sigma": t.worse_than_baseline,
-        "beyond_3_reported_sigma": t.beyond_3_sigma,
-        "noise_terms_named": counts_json(&t.noise_named),
-        "named_on_clean": counts_json(&t.false_named),
-    })
+/// A category of the suite: its rows and their total.
+#[derive(Serialize)]
+struct CategoryJson<'a> {
+    /// What the category tests.
+    about: &'static str,
+    /// The category's name.
+    name: &'static str,
+    /// One entry per row.
+    rows: Vec<RowJson<'a>>,
+    /// The rows together.
+    total: TallyJson,
 }
 
-/// The same as JSON: rates that do not apply (no clean recordings in a row, say) are null.
-pub fn json(ev: &Evaluation, alpha: f64) -> Value {
-    let categories: Vec<Value> = ev
+/// A row of a category.
+#[derive(Serialize)]
+struct RowJson<'a> {
+    /// The row's counts and rates.
+    results: TallyJson,
+    /// The row's label.
+    row: &'a str,
+}
+
+/// Counts and rates over the recordings of a row or a category; rates are fractions (0 to 1).
+#[derive(Serialize)]
+struct TallyJson {
+    /// Final azimuths off by more than 3 of their own reported sigma.
+    beyond_3_reported_sigma: u32,
+    /// Share of the clean recordings with an effect named; null without clean recordings.
+    false_alarm_rate: Option<f64>,
+    /// Share of the recordings with an effect whose first named effect is concealed in them;
+    /// null without such recordings.
+    named_first_rate: Option<f64>,
+    /// How often each effect was named on a clean recording, by name.
+    named_on_clean: BTreeMap<&'static str, u32>,
+    /// How often each noise term was named, by name.
+    noise_terms_named: BTreeMap<&'static str, u32>,
+    /// Recordings the diagnosis gave no outcome for (not in `runs`).
+    refused: u32,
+    /// RMS azimuth error of the baseline against the twin's truth, arcsec; null without runs.
+    rms_error_baseline_arcsec: Option<f64>,
+    /// RMS azimuth error of the final azimuth against the twin's truth, arcsec; null without
+    /// runs.
+    rms_error_final_arcsec: Option<f64>,
+    /// Recordings diagnosed.
+    runs: u32,
+    /// Share of the concealed effects that were named; null without concealed effects.
+    set_recall: Option<f64>,
+    /// Final azimuths worse than the baseline's by more than 3 baseline sigma.
+    worse_than_baseline_3sigma: u32,
+}
+
+fn counts_json(named: &BTreeMap<Kind, u32>) -> BTreeMap<&'static str, u32> {
+    named.iter().map(|(n, &k)| (n.name(), k)).collect()
+}
+
+fn tally_json(t: &Tally) -> TallyJson {
+    TallyJson {
+        beyond_3_reported_sigma: t.beyond_3_sigma,
+        false_alarm_rate: t.false_alarm_rate(),
+        named_first_rate: t.named_first_rate(),
+        named_on_clean: counts_json(&t.false_named),
+        noise_terms_named: counts_json(&t.noise_named),
+        refused: t.refused,
+        rms_error_baseline_arcsec: t.rms_baseline(),
+        rms_error_final_arcsec: t.rms_final(),
+        runs: t.runs,
+        set_recall: t.recall(),
+        worse_than_baseline_3sigma: t.worse_than_baseline,
+    }
+}
+
+/// The suite's results as JSON.
+pub fn json(ev: &Evaluation, alpha: f64) -> EvaluationJson<'_> {
+    let categories = ev
         .categories
         .iter()
-        .map(|c| {
-            let rows: Vec<Value> = c
+        .map(|c| CategoryJson {
+            about: c.about,
+            name: c.name,
+            rows: c
                 .rows
                 .iter()
-                .map(|r| json!({"row": r.label, "results": tally_json(&r.tally)}))
-                .collect();
-            json!({"name": c.name, "about": c.about, "total": tally_json(&c.total), "rows": rows})
+                .map(|r| RowJson {
+                    results: tally_json(&r.tally),
+                    row: &r.label,
+                })
+                .collect(),
+            total: tally_json(&c.total),
         })
         .collect();
-    json!({"alpha": alpha, "categories": categories})
+    EvaluationJson { alpha, categories }
 }

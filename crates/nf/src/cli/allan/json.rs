@@ -1,0 +1,246 @@
+//! The JSON of `nf allan --json`, also read back as a noise file (`noise_file::read`).
+//!
+//! The fields of each struct are in alphabetical order, the order the keys have always had.
+
+use super::Report;
+use crate::allan::CI_LEVEL;
+use crate::allan_fit::{ALPHA, FTest, Param, Term};
+use crate::allan_model::floor;
+use serde::Serialize;
+
+/// The whole output: the input, the curve, the fit and each fitted term with its sigma. A term
+/// the fit dropped has value 0 and a null sigma; the Gauss-Markov keys are there only when the
+/// fit kept that term.
+#[derive(Serialize)]
+pub(super) struct AllanJson<'a> {
+    /// Angle random walk N, deg/sqrt(h).
+    arw_deg_rth: f64,
+    /// 1-sigma uncertainty of N, deg/sqrt(h); null when the term was dropped.
+    arw_deg_rth_sigma: Option<f64>,
+    /// Bias instability B, deg/h.
+    bias_instability_dph: f64,
+    /// 1-sigma uncertainty of B, deg/h; null when the term was dropped.
+    bias_instability_dph_sigma: Option<f64>,
+    /// Probability content of each point's interval (0.683: one sigma).
+    ci_level: f64,
+    /// The overlapping Allan deviation, one entry per averaging time.
+    curve: Vec<CurvePoint>,
+    /// Chi-square of the generalised least-squares fit (dimensionless).
+    fit_chi2: f64,
+    /// Chi-square per degree of freedom (dimensionless).
+    fit_chi2_per_dof: f64,
+    /// Degrees of freedom of the fit.
+    fit_dof: usize,
+    /// The floor of the curve, measured and fitted.
+    floor: Floor,
+    /// Gauss-Markov bias standard deviation, deg/h; only when the fit kept the term.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gm_sigma_dph: Option<f64>,
+    /// 1-sigma uncertainty of the Gauss-Markov standard deviation, deg/h; only with it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gm_sigma_dph_sigma: Option<f64>,
+    /// Gauss-Markov correlation time, s; only when the fit kept the term.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gm_tau_s: Option<f64>,
+    /// Quantisation Q, arcsec.
+    quantization_arcsec: f64,
+    /// 1-sigma uncertainty of Q, arcsec; null when the term was dropped.
+    quantization_arcsec_sigma: Option<f64>,
+    /// Rate random walk K, deg/h/sqrt(h).
+    rrw_dph_rth: f64,
+    /// 1-sigma uncertainty of K, deg/h/sqrt(h); null when the term was dropped.
+    rrw_dph_rth_sigma: Option<f64>,
+    /// What was read.
+    source: Source<'a>,
+    /// The tests of the optional terms.
+    tests: Tests,
+}
+
+/// One averaging time of the curve.
+#[derive(Serialize)]
+struct CurvePoint {
+    /// Overlapping Allan deviation, deg/h.
+    adev_dph: f64,
+    /// Non-overlapping clusters behind the point.
+    clusters: usize,
+    /// Equivalent degrees of freedom under the fitted model.
+    edf: f64,
+    /// Upper end of the interval, deg/h.
+    hi_dph: f64,
+    /// Lower end of the interval, deg/h.
+    lo_dph: f64,
+    /// Averaging time, s.
+    tau_s: f64,
+}
+
+/// The lowest point of the curve, measured and fitted.
+#[derive(Serialize)]
+struct Floor {
+    /// Deviation of the fitted curve at its floor, deg/h.
+    fitted_adev_dph: f64,
+    /// Averaging time of the fitted curve's floor, s.
+    fitted_tau_s: f64,
+    /// Lowest measured deviation, deg/h.
+    measured_adev_dph: f64,
+    /// Averaging time of the lowest measured deviation, s.
+    measured_tau_s: f64,
+}
+
+/// The input file and how it was read.
+#[derive(Serialize)]
+struct Source<'a> {
+    /// The path as given.
+    file: &'a str,
+    /// Gaps in the time column.
+    gaps: Vec<Gap>,
+    /// `static_log` or `recording`.
+    kind: &'static str,
+    /// What the reader noticed.
+    notes: &'a [String],
+    /// Values read (samples, or dwell means of a recording).
+    samples: usize,
+    /// Contiguous segments between the gaps.
+    segments: usize,
+    /// Time between values, s.
+    step_s: f64,
+    /// Averaging window of each value, s.
+    window_s: f64,
+}
+
+/// A gap in the time column.
+#[derive(Serialize)]
+struct Gap {
+    /// Time before the gap, s.
+    from_s: f64,
+    /// Line of the first sample after the gap (0 when not read from a file).
+    line: usize,
+    /// Time after the gap, s.
+    to_s: f64,
+}
+
+/// The F tests that keep or drop the optional terms.
+#[derive(Serialize)]
+struct Tests {
+    /// Significance level of each test.
+    alpha: f64,
+    /// The best Gauss-Markov term's test; null when there were too few points.
+    gauss_markov: Option<GmTest>,
+    /// Quantisation's test; null when there were too few points or the series has gaps.
+    quantization: Option<Test>,
+}
+
+/// An F test.
+#[derive(Serialize)]
+struct Test {
+    /// The F statistic (dimensionless).
+    f: f64,
+    /// Its p-value.
+    p_value: f64,
+}
+
+/// The F test of a Gauss-Markov term.
+#[derive(Serialize)]
+struct GmTest {
+    /// The F statistic (dimensionless).
+    f: f64,
+    /// Its p-value.
+    p_value: f64,
+    /// The correlation time tried, s.
+    tau_s: f64,
+}
+
+impl From<FTest> for Test {
+    fn from(t: FTest) -> Test {
+        Test {
+            f: t.f,
+            p_value: t.p_value,
+        }
+    }
+}
+
+/// A term's value (0 when dropped) and sigma (none when dropped).
+fn term(p: Option<Param>) -> (f64, Option<f64>) {
+    (p.map_or(0.0, |p| p.value), p.map(|p| p.sigma))
+}
+
+impl<'a> Report<'a> {
+    pub(super) fn json(&self) -> AllanJson<'a> {
+        let (src, fit) = (self.src, self.fit);
+        let term = |t| term(fit.param(t));
+        let (arw, bi, rrw, q) = (
+            term(Term::Arw),
+            term(Term::BiasInstability),
+            term(Term::Rrw),
+            term(Term::Quantization),
+        );
+        let gm = fit.gm();
+        let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
+        AllanJson {
+            arw_deg_rth: arw.0,
+            arw_deg_rth_sigma: arw.1,
+            bias_instability_dph: bi.0,
+            bias_instability_dph_sigma: bi.1,
+            ci_level: CI_LEVEL,
+            curve: self
+                .rows()
+                .map(|(p, edf, (lo, hi))| CurvePoint {
+                    adev_dph: p.avar.sqrt(),
+                    clusters: p.clusters,
+                    edf,
+                    hi_dph: hi,
+                    lo_dph: lo,
+                    tau_s: p.tau_s,
+                })
+                .collect(),
+            fit_chi2: fit.chi2,
+            fit_chi2_per_dof: fit.chi2 / fit.dof as f64,
+            fit_dof: fit.dof,
+            floor: Floor {
+                fitted_adev_dph: fa,
+                fitted_tau_s: ft,
+                measured_adev_dph: ma,
+                measured_tau_s: mt,
+            },
+            gm_sigma_dph: gm.map(|(s, _)| s.value),
+            gm_sigma_dph_sigma: gm.map(|(s, _)| s.sigma),
+            gm_tau_s: gm.map(|(_, tau)| tau),
+            quantization_arcsec: q.0,
+            quantization_arcsec_sigma: q.1,
+            rrw_dph_rth: rrw.0,
+            rrw_dph_rth_sigma: rrw.1,
+            source: self.source(),
+            tests: Tests {
+                alpha: ALPHA,
+                gauss_markov: fit.gm_test.map(|(tau_s, t)| GmTest {
+                    f: t.f,
+                    p_value: t.p_value,
+                    tau_s,
+                }),
+                quantization: fit.q_test.map(Test::from),
+            },
+        }
+    }
+
+    fn source(&self) -> Source<'a> {
+        let src = self.src;
+        Source {
+            file: self.file,
+            gaps: src
+                .spacing
+                .gaps
+                .iter()
+                .map(|g| Gap {
+                    from_s: g.from_s,
+                    line: g.line,
+                    to_s: g.to_s,
+                })
+                .collect(),
+            kind: src.kind.name(),
+            notes: &src.notes,
+            samples: src.rates.len(),
+            segments: src.spacing.segments.len(),
+            step_s: src.sampling.step_s,
+            window_s: src.sampling.window_s,
+        }
+    }
+}

@@ -1,0 +1,184 @@
+//! The JSON of `nf diagnose --json` (a recording; the suite's is `diagnose_eval::json`).
+//!
+//! The fields of each struct are in alphabetical order, the order the keys have always had.
+
+use super::super::diagnose_sim::{self, SimJson};
+use crate::diagnose::{Diagnosis, Finding, Summary};
+use crate::sim_compare::SimReport;
+use nf_model::noise::NoiseModel;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// The diagnosis: the noise model, the baseline fit, each finding, and the result.
+#[derive(Serialize)]
+pub(super) struct DiagnosisJson<'a> {
+    /// Family-wise false-alarm rate of each selection step.
+    alpha: f64,
+    /// Eq. 7 on the raw rates, under the noise model.
+    baseline: SummaryJson,
+    /// The result: the models met, averaged by their weights.
+    #[serde(rename = "final")]
+    final_: SummaryJson,
+    /// Noise terms, catalogue effects and unexplained structure, in the order found.
+    findings: Vec<FindingJson<'a>>,
+    /// The models met and their weights.
+    models: Vec<ModelJson<'a>>,
+    /// The gyro noise model.
+    noise_model: NoiseModelJson<'a>,
+    /// What cannot be told apart, and other cautions.
+    notes: &'a [String],
+    /// The selected model alone.
+    selected: SummaryJson,
+    /// The comparison with the instrument file of --sim; only with --sim.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    simulation: Option<SimJson<'a>>,
+}
+
+/// Azimuth and uncertainty of a fit.
+#[derive(Serialize)]
+struct SummaryJson {
+    /// Azimuth psi, deg.
+    azimuth_deg: f64,
+    /// Whitened residual sum of squares (dimensionless).
+    rss: f64,
+    /// 1-sigma uncertainty of psi, arcsec.
+    sigma_arcsec: f64,
+}
+
+impl From<&Summary> for SummaryJson {
+    fn from(s: &Summary) -> SummaryJson {
+        SummaryJson {
+            azimuth_deg: s.azimuth_deg,
+            rss: s.rss,
+            sigma_arcsec: s.sigma_arcsec,
+        }
+    }
+}
+
+/// One finding.
+#[derive(Serialize)]
+struct FindingJson<'a> {
+    /// The fit with it; null for a noise term.
+    after: Option<SummaryJson>,
+    /// The effect's name.
+    effect: &'static str,
+    /// Whether it is a noise term rather than an effect in the fit.
+    noise: bool,
+    /// Bonferroni-adjusted p-value of the test that found it.
+    p_value: f64,
+    /// Its parameters by name.
+    parameters: BTreeMap<&'a str, ParamJson>,
+    /// Where in the recording it shows.
+    #[serde(rename = "where")]
+    location: &'a str,
+}
+
+/// A parameter, in the unit its name ends with.
+#[derive(Serialize)]
+struct ParamJson {
+    /// Standard error; null where the fit gives none.
+    sigma: Option<f64>,
+    /// The fitted value.
+    value: f64,
+}
+
+/// One of the models met, with its weight in the result.
+#[derive(Serialize)]
+struct ModelJson<'a> {
+    /// Azimuth psi, deg.
+    azimuth_deg: f64,
+    /// The model's effects.
+    model: &'a str,
+    /// 1-sigma uncertainty of psi, arcsec.
+    sigma_arcsec: f64,
+    /// Its weight in the average (dimensionless, the weights sum to 1).
+    weight: f64,
+}
+
+/// The gyro noise model, and the two under which some effects are judged.
+#[derive(Serialize)]
+struct NoiseModelJson<'a> {
+    /// Angle random walk N, deg/sqrt(h).
+    arw_deg_rth: f64,
+    /// Bias instability B, deg/h.
+    bias_instability_dph: f64,
+    /// The most coloured plausible model: temperature, encoder harmonics and amplitude are
+    /// judged under it.
+    cautious: ColouredJson,
+    /// Rate random walk K, deg/h/sqrt(h).
+    rrw_dph_rth: f64,
+    /// Where the model came from.
+    source: &'a str,
+    /// The model estimated with a drift: drift and jump are judged under it.
+    with_drift: ColouredJson,
+}
+
+/// The coloured terms of a noise model.
+#[derive(Serialize)]
+struct ColouredJson {
+    /// Bias instability B, deg/h.
+    bias_instability_dph: f64,
+    /// Rate random walk K, deg/h/sqrt(h).
+    rrw_dph_rth: f64,
+}
+
+impl From<&NoiseModel> for ColouredJson {
+    fn from(m: &NoiseModel) -> ColouredJson {
+        ColouredJson {
+            bias_instability_dph: m.bias_instability_dph,
+            rrw_dph_rth: m.rrw_dph_rth,
+        }
+    }
+}
+
+fn finding_json(f: &Finding) -> FindingJson<'_> {
+    FindingJson {
+        after: (!f.effect.is_noise()).then(|| (&f.after).into()),
+        effect: f.effect.name(),
+        noise: f.effect.is_noise(),
+        p_value: f.p_value,
+        parameters: f
+            .parameters
+            .iter()
+            .map(|p| {
+                let j = ParamJson {
+                    sigma: p.sigma,
+                    value: p.value,
+                };
+                (p.name.as_str(), j)
+            })
+            .collect(),
+        location: &f.location,
+    }
+}
+
+pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -> DiagnosisJson<'a> {
+    let m = &d.noise_model;
+    DiagnosisJson {
+        alpha: d.alpha,
+        baseline: (&d.baseline).into(),
+        final_: (&d.final_).into(),
+        findings: d.findings.iter().map(finding_json).collect(),
+        models: d
+            .models
+            .iter()
+            .map(|w| ModelJson {
+                azimuth_deg: w.summary.azimuth_deg,
+                model: &w.label,
+                sigma_arcsec: w.summary.sigma_arcsec,
+                weight: w.weight,
+            })
+            .collect(),
+        noise_model: NoiseModelJson {
+            arw_deg_rth: m.arw_deg_rth,
+            bias_instability_dph: m.bias_instability_dph,
+            cautious: (&d.cautious_model).into(),
+            rrw_dph_rth: m.rrw_dph_rth,
+            source: &d.noise_source,
+            with_drift: (&d.drift_model).into(),
+        },
+        notes: &d.notes,
+        selected: (&d.selected).into(),
+        simulation: sim.map(diagnose_sim::json),
+    }
+}

@@ -1,0 +1,156 @@
+//! The JSON of `nf fit --json`.
+//!
+//! The fields of each struct are in alphabetical order, the order the keys have always had.
+
+use super::super::json::BudgetJson;
+use crate::analysis::Analysis;
+use nf_model::angle::surveying_azimuth_deg;
+use serde::Serialize;
+
+/// The fit of a recording: the azimuth under the gyro's noise model (generalised least
+/// squares), the white-noise fit beside it, and the budgets.
+#[derive(Serialize)]
+pub(super) struct FitJson {
+    /// Fitted amplitude of the Earth-rate harmonic, deg/h.
+    amplitude_dph: f64,
+    /// Amplitude the latitude predicts, deg/h.
+    amplitude_predicted_dph: f64,
+    /// Azimuth psi of Eq. 7 (generalised least squares), deg.
+    azimuth_deg: f64,
+    /// The paper's budget (Eq. 31).
+    budget_eq31_paper: BudgetJson,
+    /// The exact model's budget.
+    budget_exact: BudgetJson,
+    /// Degrees of freedom of the white-noise fit.
+    dof: u32,
+    /// Linear drift, deg/h per s (0 when not fitted).
+    drift_dph_per_s: f64,
+    /// Quadratic drift, deg/h per s^2 (0 when not fitted).
+    drift_dph_per_s2: f64,
+    /// Whether the Earth rate is resolved; without it no azimuth can be given.
+    earth_rate_resolved: bool,
+    /// Latitude of the recording, deg.
+    latitude_deg: f64,
+    /// How the azimuth was fitted.
+    method: &'static str,
+    /// Positions fitted.
+    n: u32,
+    /// The gyro noise model the fit used.
+    noise_model: NoiseModelJson,
+    /// Why the Earth rate is not resolved; null when it is.
+    not_resolved_because: Option<String>,
+    /// Gyro bias (the fit's offset), deg/h.
+    offset_dph: f64,
+    /// The white-noise least-squares fit.
+    ols: Ols,
+    /// Residual sum of squares of the white-noise fit, (deg/h)^2.
+    rss: f64,
+    /// Fitted over predicted amplitude (dimensionless).
+    scale_factor: f64,
+    /// Shaft tilt from the inclinometer's tilt circle, deg; null without one.
+    shaft_tilt_deg: Option<f64>,
+    /// Direction the platform is lowest towards, deg; null without a tilt circle.
+    shaft_tilt_dir_deg: Option<f64>,
+    /// 1-sigma uncertainty of the amplitude, deg/h.
+    sigma_amplitude_dph: f64,
+    /// 1-sigma uncertainty of the azimuth, arcsec.
+    sigma_arcsec: f64,
+    /// RMS of the residuals, deg/h.
+    sigma_gyro_dph: f64,
+    /// The surveying azimuth (clockwise from true north) of the gamma = 0 direction, deg.
+    surveying_azimuth_deg: f64,
+    /// Positions without an inclinometer reading, corrected from the tilt circle.
+    tilt_bridged_positions: usize,
+    /// The tilt correction applied: none, first-order or exact.
+    tilt_correction: &'static str,
+}
+
+/// The gyro noise model, given or estimated, and how well it fits.
+#[derive(Serialize)]
+struct NoiseModelJson {
+    /// Angle random walk N, deg/sqrt(h).
+    arw_deg_rth: f64,
+    /// Bias instability B, deg/h.
+    bias_instability_dph: f64,
+    /// Chi-square of the generalised least-squares fit (dimensionless).
+    chi2: f64,
+    /// Its degrees of freedom.
+    chi2_dof: usize,
+    /// Where the dwell came from.
+    dwell_from: &'static str,
+    /// Dwell per position, s.
+    dwell_s: f64,
+    /// Gauss-Markov bias standard deviation, deg/h.
+    gm_sigma_dph: f64,
+    /// Gauss-Markov correlation time, s.
+    gm_tau_s: f64,
+    /// Quantisation Q, arcsec.
+    quantization_arcsec: f64,
+    /// Rate random walk K, deg/h/sqrt(h).
+    rrw_dph_rth: f64,
+    /// Where the model came from: the flags, a file, or estimated from the recording.
+    source: String,
+}
+
+/// The white-noise least-squares fit.
+#[derive(Serialize)]
+struct Ols {
+    /// Azimuth psi, deg.
+    azimuth_deg: f64,
+    /// What this fit is.
+    note: &'static str,
+    /// 1-sigma uncertainty of the azimuth from the residuals, arcsec.
+    sigma_arcsec: f64,
+}
+
+pub(super) fn fit_json(an: &Analysis) -> FitJson {
+    let f = &an.fit;
+    let g = &an.gls;
+    let m = &g.model;
+    let (d1, d2) = f.drift();
+    let unresolved = g.unresolved(an.amplitude_predicted_dph);
+    FitJson {
+        amplitude_dph: g.amplitude_dph,
+        amplitude_predicted_dph: an.amplitude_predicted_dph,
+        azimuth_deg: g.psi_deg,
+        budget_eq31_paper: (&an.budget_paper).into(),
+        budget_exact: (&an.budget_exact).into(),
+        dof: f.dof,
+        drift_dph_per_s: d1,
+        drift_dph_per_s2: d2,
+        earth_rate_resolved: unresolved.is_none(),
+        latitude_deg: an.latitude_deg,
+        method: "generalised least squares under the gyro noise model",
+        n: f.n,
+        noise_model: NoiseModelJson {
+            arw_deg_rth: m.arw_deg_rth,
+            bias_instability_dph: m.bias_instability_dph,
+            chi2: g.chi2,
+            chi2_dof: g.dof,
+            dwell_from: g.dwell_from,
+            dwell_s: g.dwell_s,
+            gm_sigma_dph: m.gm_sigma_dph,
+            gm_tau_s: m.gm_tau_s,
+            quantization_arcsec: m.quantization_arcsec,
+            rrw_dph_rth: m.rrw_dph_rth,
+            source: g.source.describe(),
+        },
+        not_resolved_because: unresolved,
+        offset_dph: f.offset_dph,
+        ols: Ols {
+            azimuth_deg: f.psi_deg,
+            note: "white-noise least squares, sigma from the residuals",
+            sigma_arcsec: f.sigma_psi_deg * 3600.0,
+        },
+        rss: f.rss,
+        scale_factor: g.amplitude_dph / an.amplitude_predicted_dph,
+        shaft_tilt_deg: an.shaft.map(|s| s.tilt_deg),
+        shaft_tilt_dir_deg: an.shaft.map(|s| s.tilt_dir_deg),
+        sigma_amplitude_dph: g.sigma_amplitude_dph,
+        sigma_arcsec: g.sigma_psi_deg * 3600.0,
+        sigma_gyro_dph: an.sigma_gyro_dph,
+        surveying_azimuth_deg: surveying_azimuth_deg(g.psi_deg),
+        tilt_bridged_positions: an.tilt_bridged,
+        tilt_correction: an.method.name(),
+    }
+}
