@@ -1,0 +1,237 @@
+//! One panel drawn with plotters on any backend: the title fitted to the width (smaller, then
+//! wrapped), axes from [`Axis`], the series, and a legend.
+
+use super::axis::Axis;
+use super::{Panel, Series, Style};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+type Area<DB> = DrawingArea<DB, Shift>;
+type Failed = String;
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+];
+const GRID: RGBColor = RGBColor(221, 221, 221);
+const FRAME: RGBColor = RGBColor(68, 68, 68);
+const FONT: &str = "sans-serif";
+const TICK_SIZE: f64 = 14.0;
+
+fn failed(e: impl std::fmt::Display) -> Failed {
+    format!("cannot draw the plot: {e}")
+}
+
+/// Text as one line of printable characters: no control characters, nor the two that XML
+/// refuses.
+fn clean(s: &str) -> String {
+    s.chars()
+        .filter(|c| !c.is_control() && !matches!(c, '\u{fffe}' | '\u{ffff}'))
+        .collect()
+}
+
+fn width<DB: DrawingBackend>(area: &Area<DB>, s: &str, size: f64) -> u32 {
+    area.estimate_text_size(s, &(FONT, size).into_font().into())
+        .map_or(0, |(w, _)| w)
+}
+
+/// The largest size from `max` down to `min` (in steps of 1) at which `s` is at most `room`
+/// wide, or `min`.
+fn fit_size(s: &str, room: u32, max: f64, min: f64, w: impl Fn(&str, f64) -> u32) -> f64 {
+    let mut size = max;
+    while size > min && w(s, size) > room {
+        size -= 1.0;
+    }
+    size
+}
+
+/// `s` as lines at most `room` wide: words moved to the next line, a word too long for a line
+/// broken between characters. At most `max_lines` lines, the last ending in "..." if cut.
+pub(super) fn wrap(s: &str, room: u32, max_lines: usize, w: impl Fn(&str) -> u32) -> Vec<String> {
+    let mut lines: Vec<String> = vec![String::new()];
+    for word in s.split(' ').filter(|w| !w.is_empty()) {
+        let last = lines.last_mut().expect("one line at least");
+        let joined = if last.is_empty() {
+            word.to_string()
+        } else {
+            format!("{last} {word}")
+        };
+        if w(&joined) <= room {
+            *last = joined;
+            continue;
+        }
+        if !last.is_empty() {
+            lines.push(String::new());
+        }
+        for c in word.chars() {
+            let last = lines.last_mut().expect("one line at least");
+            last.push(c);
+            if w(last) > room && last.chars().count() > 1 {
+                last.pop();
+                lines.push(c.to_string());
+            }
+        }
+    }
+    if lines.len() > max_lines {
+        lines.truncate(max_lines);
+        let last = lines.last_mut().expect("one line at least");
+        while !last.is_empty() && w(&format!("{last}...")) > room {
+            last.pop();
+        }
+        last.push_str("...");
+    }
+    lines
+}
+
+/// The title at the top of `area`, from 18 px down to 13 px, wrapped where even that is too
+/// wide; returns the area below it.
+fn title<DB: DrawingBackend>(area: &Area<DB>, text: &str) -> Result<Area<DB>, Failed> {
+    let room = area.dim_in_pixel().0.saturating_sub(20);
+    let size = fit_size(text, room, 18.0, 13.0, |s, z| width(area, s, z));
+    let lines = wrap(text, room, 3, |s| width(area, s, size));
+    let line_h = (size * 1.15).ceil() as i32;
+    let style = TextStyle::from((FONT, size).into_font()).pos(Pos::new(HPos::Center, VPos::Top));
+    let cx = area.dim_in_pixel().0 as i32 / 2;
+    for (i, line) in lines.iter().enumerate() {
+        area.draw_text(line, &style, (cx, 6 + i as i32 * line_h))
+            .map_err(failed)?;
+    }
+    Ok(area.split_vertically(10 + lines.len() as i32 * line_h).1)
+}
+
+/// One panel into `area`.
+pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> Result<(), Failed> {
+    let all = || p.series.iter().flat_map(|s| s.points.iter());
+    let x = Axis::fit(all().map(|q| q.0), p.log_x, 0.0);
+    let y_pts = all().filter(|q| x.shows(q.0)).map(|q| q.1);
+    let y = Axis::fit(y_pts, p.log_y, 0.05);
+
+    let rest = title(area, &clean(&p.title))?;
+    let (x_label, y_label) = (clean(&p.x_label), clean(&p.y_label));
+    let (w, h) = rest.dim_in_pixel();
+    let tick_w = y.ticks().iter().map(|&t| width(&rest, &y.label(t), TICK_SIZE)).max();
+    let y_area = tick_w.unwrap_or(0) + 36;
+    let x_size = fit_size(&x_label, w.saturating_sub(y_area + 20), 15.0, 9.0, |s, z| {
+        width(&rest, s, z)
+    });
+    let y_size = fit_size(&y_label, h.saturating_sub(50), 15.0, 9.0, |s, z| width(&rest, s, z));
+
+    let mut chart = ChartBuilder::on(&rest)
+        .margin_right(20)
+        .margin_left(6)
+        .margin_bottom(6)
+        .margin_top(4)
+        .x_label_area_size(44)
+        .y_label_area_size(y_area)
+        .build_cartesian_2d(x.clone(), y.clone())
+        .map_err(failed)?;
+    chart
+        .configure_mesh()
+        .bold_line_style(GRID)
+        .axis_style(FRAME)
+        .label_style((FONT, TICK_SIZE))
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .axis_desc_style((FONT, x_size.min(y_size)))
+        .draw()
+        .map_err(failed)?;
+    // The frame: plotters draws the left and bottom axes only.
+    let plot = chart.plotting_area().strip_coord_spec();
+    let (pw, ph) = plot.dim_in_pixel();
+    let frame = Rectangle::new([(0, 0), (pw as i32 - 1, ph as i32 - 1)], FRAME);
+    plot.draw(&frame).map_err(failed)?;
+
+    let mut named = false;
+    for (k, s) in p.series.iter().enumerate() {
+        let name = clean(&s.name);
+        named |= !name.is_empty();
+        draw_series(&mut chart, s, &name, COLORS[k % COLORS.len()], (&x, &y))?;
+    }
+    if named {
+        chart
+            .configure_series_labels()
+            .position(legend_corner(p, &x, &y))
+            .background_style(WHITE.mix(0.85))
+            .border_style(GRID)
+            .label_font((FONT, TICK_SIZE))
+            .draw()
+            .map_err(failed)?;
+    }
+    Ok(())
+}
+
+/// The corner of the plot with the fewest points in it, for the legend: upper left where there
+/// is a tie.
+fn legend_corner(p: &Panel, x: &Axis, y: &Axis) -> SeriesLabelPosition {
+    use SeriesLabelPosition::*;
+    let mut count = [0usize; 4];
+    let shown = p
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|q| x.shows(q.0) && y.shows(q.1));
+    for &(a, b) in shown {
+        let (fx, fy) = (x.map(&a, (0, 100)), y.map(&b, (0, 100)));
+        let corner = match (fx, fy) {
+            (..40, 55..) => 0,
+            (60.., 55..) => 1,
+            (..40, ..45) => 2,
+            (60.., ..45) => 3,
+            _ => continue,
+        };
+        count[corner] += 1;
+    }
+    let best = (0..4).min_by_key(|&k| count[k]).unwrap_or(0);
+    [UpperLeft, UpperRight, LowerLeft, LowerRight][best].clone()
+}
+
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
+
+fn draw_series<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    s: &Series,
+    name: &str,
+    c: RGBColor,
+    (x, y): (&Axis, &Axis),
+) -> Result<(), Failed> {
+    let good = |&(a, b): &(f64, f64)| x.shows(a) && y.shows(b);
+    let line = c.stroke_width(2);
+    let drawn = match s.style {
+        Style::Points => {
+            let dots = s.points.iter().filter(|q| good(q));
+            let dots = dots.map(|&q| Circle::new(q, 3, c.filled()));
+            let drawn = chart.draw_series(dots).map_err(failed)?;
+            if !name.is_empty() {
+                drawn
+                    .label(name)
+                    .legend(move |(a, b)| Circle::new((a + 8, b), 3, c.filled()));
+            }
+            return Ok(());
+        }
+        // A point that cannot be shown breaks the line.
+        Style::Line => s
+            .points
+            .split(|q| !good(q))
+            .filter(|run| run.len() > 1)
+            .map(|run| PathElement::new(run.to_vec(), line))
+            .collect::<Vec<_>>(),
+        Style::Bars => s
+            .points
+            .chunks_exact(2)
+            .filter(|b| good(&b[0]) && good(&b[1]))
+            .map(|b| PathElement::new(b.to_vec(), c.stroke_width(1)))
+            .collect(),
+    };
+    let drawn = chart.draw_series(drawn).map_err(failed)?;
+    if !name.is_empty() {
+        drawn
+            .label(name)
+            .legend(move |(a, b)| PathElement::new([(a, b), (a + 16, b)], line));
+    }
+    Ok(())
+}
