@@ -51,21 +51,32 @@ impl Axis {
         if self.log { v.log10() } else { v }
     }
 
+    /// The range in data units where the ticks are linear: always on a linear axis, and on a
+    /// log axis too short for three of its own ticks (a fraction of a decade).
+    fn linear(&self) -> Option<(f64, f64)> {
+        if !self.log {
+            return Some((self.lo, self.hi));
+        }
+        if log_ticks(self.lo, self.hi).len() >= 3 {
+            return None;
+        }
+        Some((10f64.powf(self.lo), 10f64.powf(self.hi)))
+    }
+
     /// The tick positions, in data units.
     pub fn ticks(&self) -> Vec<f64> {
-        if self.log {
-            log_ticks(self.lo, self.hi)
-        } else {
-            ticks(self.lo, self.hi)
+        match self.linear() {
+            Some((a, b)) => ticks(a, b).into_iter().filter(|&t| self.shows(t)).collect(),
+            None => log_ticks(self.lo, self.hi),
         }
     }
 
-    /// A tick's label: on a linear axis with as many digits as the tick step needs.
+    /// A tick's label, with as many digits as the tick step needs.
     pub fn label(&self, t: f64) -> String {
-        if self.log {
-            return fmt_tick(t, t);
+        match self.linear() {
+            Some((a, b)) => fmt_tick(t, step(a, b)),
+            None => fmt_tick(t, t),
         }
-        fmt_tick(t, step(self.lo, self.hi))
     }
 }
 
@@ -188,6 +199,17 @@ mod tests {
         // All of f64's decades: a tick every 70 or so, not 630.
         let all = log_ticks(-324.0, 308.0);
         assert!((8..=12).contains(&all.len()), "{all:?}");
+    }
+
+    #[test]
+    fn a_log_axis_shorter_than_a_decade_has_linear_ticks() {
+        let x = Axis::fit([2.5, 19.99], true, 0.0);
+        assert_eq!(x.ticks(), vec![5.0, 10.0, 15.0]);
+        let y = Axis::fit([0.0013, 0.0041], true, 0.05);
+        let labels: Vec<String> = y.ticks().iter().map(|&t| y.label(t)).collect();
+        assert_eq!(labels, ["0.002", "0.003", "0.004"]);
+        let wide = Axis::fit([0.3, 20.0], true, 0.0);
+        assert_eq!(wide.ticks(), vec![0.5, 1.0, 2.0, 5.0, 10.0, 20.0]);
     }
 
     #[test]
