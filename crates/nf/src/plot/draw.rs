@@ -146,19 +146,21 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> Result<()
     let frame = Rectangle::new([(0, 0), (pw as i32 - 1, ph as i32 - 1)], FRAME);
     plot.draw(&frame).map_err(failed)?;
 
-    let mut named = false;
-    for (k, s) in p.series.iter().enumerate() {
-        let name = clean(&s.name);
-        named |= !name.is_empty();
-        draw_series(&mut chart, s, &name, COLORS[k % COLORS.len()], (&x, &y))?;
+    let names: Vec<String> = p.series.iter().map(|s| clean(&s.name)).collect();
+    for (k, (s, name)) in p.series.iter().zip(&names).enumerate() {
+        draw_series(&mut chart, s, name, COLORS[k % COLORS.len()], (&x, &y))?;
     }
-    if named {
+    // The legend's names within the plot: smaller where one is too long for it.
+    let widest = names.iter().max_by_key(|n| width(&rest, n, TICK_SIZE));
+    if let Some(widest) = widest.filter(|n| !n.is_empty()) {
+        let room = pw.saturating_sub(60);
+        let size = fit_size(widest, room, TICK_SIZE, 9.0, |s, z| width(&rest, s, z));
         chart
             .configure_series_labels()
             .position(legend_corner(p, &x, &y))
             .background_style(WHITE.mix(0.85))
             .border_style(GRID)
-            .label_font((FONT, TICK_SIZE))
+            .label_font((FONT, size))
             .draw()
             .map_err(failed)?;
     }

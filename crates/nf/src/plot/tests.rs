@@ -143,11 +143,17 @@ fn long_titles_get_smaller_then_wrap_and_control_characters_go() {
         "Allan deviation of {}/run\u{7}.csv",
         "/a-long-directory-name".repeat(12)
     );
+    p.series[1].name = "a legend entry far too long to fit ".repeat(4);
     let svg = render_svg(&[p]);
     assert!(
         svg.contains("Allan deviation of\n</text>") && !svg.contains('\u{7}'),
         "{svg}"
     );
+    // The legend's text is smaller than the ticks' (14 / 1.24 in SVG).
+    let name = svg.find("a legend entry far").unwrap();
+    let size = svg[..name].rsplit("font-size=\"").next().unwrap();
+    let size: f64 = size[..size.find('"').unwrap()].parse().unwrap();
+    assert!(size < 11.0, "{size}");
     // By width: 3 units a character.
     let w = |s: &str| 3 * s.chars().count() as u32;
     assert_eq!(draw::wrap("ab cd ef", 15, 3, w), vec!["ab cd", "ef"]);
