@@ -33,6 +33,7 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
             });
         }
         Kind::ThermalDrift => file.temperature.bias_dph_per_c = if remove { 0.0 } else { v("dph_per_degc") },
+        Kind::ShaftTilt if remove => file.shaft.tilt_deg = 0.0,
         Kind::ShaftTilt => {
             file.shaft.tilt_deg = v("tilt_deg");
             file.shaft.tilt_dir_deg = v("tilt_dir_deg");

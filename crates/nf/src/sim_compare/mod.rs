@@ -18,7 +18,7 @@ pub use compare::{Comparison, Line};
 pub use physics::{Physics, Verdict, settling_offset};
 pub use positions::{Departure, Where};
 pub use profile::{Quantity, profile};
-pub use replay::{dwell_of, replay, run_origin_s};
+pub use replay::{replay, run_origin_s};
 
 use crate::diagnose::{self, Diagnosis};
 use crate::instrument_file::InstrumentFile;
@@ -113,7 +113,7 @@ fn replays(file: &InstrumentFile, rec: &Recording, n: usize) -> Replays {
 
 /// Compares `rec` (diagnosed as `diag`) with the simulation `file`.
 pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &Options) -> Result<SimReport, String> {
-    let dwell_s = dwell_of(rec, file.run.dwell_s);
+    let (dwell_s, _) = crate::noise_fit::dwell_of(rec);
     let mine = profile(rec).ok_or("the positions do not determine A cos + B sin + C")?;
     let sims = replays(file, rec, opt.replays);
     let before = compare::compare(&mine, &sims.profiles, opt.alpha);

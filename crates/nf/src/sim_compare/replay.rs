@@ -4,33 +4,10 @@
 //! recording's thermometer.
 
 use crate::instrument_file::InstrumentFile;
+use crate::noise_fit::dwell_of;
 use crate::recording::{Recording, Row};
 use nf_twin::{Recorder, World};
 use std::collections::BTreeMap;
-
-/// The dwell of `rec`: its `dwell_s`, or its samples at its sample rate, or `fallback`; never
-/// longer than the time between two positions.
-pub fn dwell_of(rec: &Recording, fallback: f64) -> f64 {
-    let meta = |k: &str| rec.meta.get(k).and_then(|v| v.trim().parse::<f64>().ok());
-    let from_samples = || {
-        let rate = meta("sample_rate_hz").filter(|r| *r > 0.0)?;
-        let mut s: Vec<u32> = rec.rows.iter().filter_map(|r| r.samples).collect();
-        s.sort_unstable();
-        s.get(s.len() / 2).map(|&m| m as f64 / rate)
-    };
-    let dwell = meta("dwell_s")
-        .or_else(from_samples)
-        .filter(|d| d.is_finite() && *d > 0.0)
-        .unwrap_or(fallback);
-    let mut t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
-    t.sort_by(f64::total_cmp);
-    let spacing = t
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .filter(|d| *d > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    dwell.min(0.95 * spacing)
-}
 
 /// The encoder's error (deg) the instrument file gives at shaft angle `deg`.
 fn encoder_error_deg(file: &InstrumentFile, deg: f64) -> f64 {
@@ -107,7 +84,8 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) 
         .collect();
     twin.temp_trace.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut world = World::new(twin);
-    let dwell = dwell_of(rec, file.run.dwell_s);
+    // The dwell the fit and the noise estimate take for this recording.
+    let (dwell, _) = dwell_of(rec);
     let per_turn = (1u64 << file.encoder.bits) as f64;
     let mut order: Vec<usize> = (0..rec.rows.len()).collect();
     order.sort_by(|&a, &b| rec.rows[a].t_s.total_cmp(&rec.rows[b].t_s));
