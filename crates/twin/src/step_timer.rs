@@ -28,13 +28,13 @@ impl TwinStepTimer {
     pub fn new(world: Rc<RefCell<World>>) -> Self {
         TwinStepTimer { world, running: None }
     }
+}
 
-    /// Advances the world to `t_us`.
-    fn until(&self, t_us: u64) {
-        let mut w = self.world.borrow_mut();
-        let now = w.now_us;
-        w.advance(t_us.saturating_sub(now));
-    }
+/// Advances the world to `t_us`.
+fn until(world: &RefCell<World>, t_us: u64) {
+    let mut w = world.borrow_mut();
+    let now = w.now_us;
+    w.advance(t_us.saturating_sub(now));
 }
 
 impl StepTimer for TwinStepTimer {
@@ -59,16 +59,13 @@ impl StepTimer for TwinStepTimer {
                     break;
                 }
                 r.pulsed = true;
-                let mut w = self.world.borrow_mut();
-                let now = w.now_us;
-                w.advance(rise.saturating_sub(now));
-                w.step();
+                until(&self.world, rise);
+                self.world.borrow_mut().step();
             }
             if end > deadline {
                 break;
             }
-            self.until(end);
-            let Some(r) = &mut self.running else { break };
+            until(&self.world, end);
             let stops = r.one_pulse;
             (r.active, r.began_us, r.pulsed) = (r.preload, end, false);
             match r.train.on_update() {
@@ -81,7 +78,7 @@ impl StepTimer for TwinStepTimer {
             }
         }
         if self.running.is_some() {
-            self.until(deadline);
+            until(&self.world, deadline);
             return false;
         }
         true

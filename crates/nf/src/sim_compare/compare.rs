@@ -44,6 +44,30 @@ fn unwrap_near(v: f64, near: f64) -> f64 {
     near + (v - near + 180.0).rem_euclid(360.0) - 180.0
 }
 
+/// Where a value falls among the replays' values of it.
+pub struct Prediction {
+    pub mean: f64,
+    pub sd: f64,
+    /// (value - mean) in units of the prediction sd, `sd sqrt(1 + 1/k)` for `k` replays.
+    pub z: f64,
+    /// Two-sided p of `z`, Student-t on `k - 1` degrees of freedom.
+    pub p: f64,
+}
+
+/// `x` against `v` (at least two values), the spread floored at `floor(mean)`.
+pub fn predict(v: &[f64], x: f64, floor: impl Fn(f64) -> f64) -> Prediction {
+    let k = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / k;
+    let sd = (v.iter().map(|y| (y - mean).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
+    let z = (x - mean) / (sd.max(floor(mean)) * (1.0 + 1.0 / k).sqrt());
+    Prediction {
+        mean,
+        sd,
+        z,
+        p: t_sf2(z, k - 1.0),
+    }
+}
+
 /// Compares; `alpha` is the false-alarm rate over all quantities.
 pub fn compare(rec: &Profile, sims: &[Profile], alpha: f64) -> Comparison {
     let s = sims.len() as f64;
@@ -60,12 +84,9 @@ pub fn compare(rec: &Profile, sims: &[Profile], alpha: f64) -> Comparison {
             if q.wraps() {
                 v.iter_mut().for_each(|x| *x = unwrap_near(*x, r));
             }
-            let m = v.iter().sum::<f64>() / v.len() as f64;
-            let sd = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt();
             // A noise-free simulation has no spread: then only digits separate them.
-            let scale = sd.max(1e-9 * r.abs().max(m.abs())).max(q.resolution());
-            let z = (r - m) / (scale * (1.0 + 1.0 / v.len() as f64).sqrt());
-            Some((q, r, m, sd, z, t_sf2(z, (v.len() - 1) as f64)))
+            let at = predict(&v, r, |m| (1e-9 * r.abs().max(m.abs())).max(q.resolution()));
+            Some((q, r, at.mean, at.sd, at.z, at.p))
         })
         .map(|(quantity, recording, simulated, simulated_sd, z, p)| Line {
             quantity,

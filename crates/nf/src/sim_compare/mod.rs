@@ -101,8 +101,8 @@ struct Replays {
     first: Recording,
 }
 
-fn replays(file: &InstrumentFile, rec: &Recording, n: usize) -> Replays {
-    let origin = run_origin_s(file);
+/// `origin_s`: where the file's run starts on its clock ([`run_origin_s`]).
+fn replays(file: &InstrumentFile, rec: &Recording, n: usize, origin: f64) -> Replays {
     let all: Vec<Recording> = (0..n).map(|i| replay(file, rec, seed(file, i), origin)).collect();
     Replays {
         profiles: all.iter().filter_map(profile).collect(),
@@ -115,15 +115,15 @@ fn replays(file: &InstrumentFile, rec: &Recording, n: usize) -> Replays {
 pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &Options) -> Result<SimReport, String> {
     let (dwell_s, _) = crate::noise_fit::dwell_of(rec);
     let mine = profile(rec).ok_or("the positions do not determine A cos + B sin + C")?;
-    let sims = replays(file, rec, opt.replays);
+    let origin_s = run_origin_s(file);
+    let sims = replays(file, rec, opt.replays, origin_s);
     let before = compare::compare(&mine, &sims.profiles, opt.alpha);
     let recording = residuals(rec);
     let places = positions::departures(rec, &recording, &sims.residuals, opt.alpha);
     let sim_diag = diagnose::diagnose(&sims.first, &opt.diagnose)?;
-    let origin_s = run_origin_s(file);
     let physics = physics::judge(rec, diag, file, &sim_diag, dwell_s, origin_s);
     let (f1, mut changes) = fix::effects(file, &physics, rec, dwell_s, origin_s);
-    let sims1 = replays(&f1, rec, opt.replays);
+    let sims1 = replays(&f1, rec, opt.replays, run_origin_s(&f1));
     let (f2, moved) = fix::moments(
         &f1,
         &compare::compare(&mine, &sims1.profiles, opt.alpha),
@@ -131,7 +131,7 @@ pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &O
         diag,
     );
     changes.extend(moved);
-    let sims2 = replays(&f2, rec, opt.replays);
+    let sims2 = replays(&f2, rec, opt.replays, run_origin_s(&f2));
     Ok(SimReport {
         dwell_s,
         physics,

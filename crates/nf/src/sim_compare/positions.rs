@@ -3,8 +3,8 @@
 //! Bonferroni over the positions).
 
 use super::Residuals;
+use super::compare::predict;
 use crate::recording::Recording;
-use crate::stats::t_sf2;
 
 /// Positions listed, the largest departures first.
 const SHOWN: usize = 5;
@@ -34,22 +34,18 @@ pub fn departures(rec: &Recording, mine: &Residuals, sims: &[Residuals], alpha: 
     if sims.len() < 3 || sims.iter().any(|s| s.resid_dph.len() != n) {
         return Where::default();
     }
-    let k = sims.len() as f64;
     let mut all: Vec<Departure> = (0..n)
         .map(|i| {
             let v: Vec<f64> = sims.iter().map(|s| s.resid_dph[i]).collect();
-            let m = v.iter().sum::<f64>() / k;
-            let sd = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
-            let d = mine.resid_dph[i] - m;
-            let z = d / (sd.max(1e-12) * (1.0 + 1.0 / k).sqrt());
+            let at = predict(&v, mine.resid_dph[i], |_| 1e-12);
             let r = &rec.rows[i];
             Departure {
                 index: r.index,
                 gamma_deg: r.encoder_deg,
                 t_s: r.t_s,
-                difference_dph: d,
-                z,
-                significant: t_sf2(z, k - 1.0) < alpha / n as f64,
+                difference_dph: mine.resid_dph[i] - at.mean,
+                z: at.z,
+                significant: at.p < alpha / n as f64,
             }
         })
         .collect();
