@@ -9,14 +9,21 @@
 //! matrix positive definite.
 
 use crate::linfit;
+use crate::semisep::Semisep;
 use nf_model::noise::NoiseModel;
 
-/// A symmetric positive definite matrix, row-major, and its Cholesky factor.
+/// A symmetric positive definite matrix, factored.
 #[derive(Debug, Clone)]
 pub struct Cov {
-    pub n: usize,
-    /// Lower factor `L` with `L L^T = Sigma`, row-major.
-    chol: Vec<f64>,
+    factor: Factor,
+}
+
+#[derive(Debug, Clone)]
+enum Factor {
+    /// Lower Cholesky factor `L` with `L L^T = Sigma`, n x n row-major.
+    Dense { n: usize, chol: Vec<f64> },
+    /// Dwell means of windows apart: O(n) to factor and to whiten.
+    Windows(Semisep),
 }
 
 /// The covariance of window means of the gyro rate: centres `t_s`, lengths `dwell_s`.
@@ -34,28 +41,34 @@ pub fn window_covariance(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Ve
 }
 
 impl Cov {
+    /// The covariance of the means of windows centred at `t_s`, of lengths `dwell_s`, under
+    /// `model`: semiseparable when the windows are apart, as they are in a recording; dense
+    /// (exact flicker, O(n^3)) when they overlap. Defined up to a constant, like
+    /// [`window_covariance`]: for designs with a constant column.
+    pub fn of_windows(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Option<Cov> {
+        match Semisep::of_windows(model, t_s, dwell_s) {
+            Some(s) => Some(Cov::semiseparable(s)),
+            None => Cov::new(&window_covariance(model, t_s, dwell_s), t_s.len()),
+        }
+    }
+
+    pub fn semiseparable(s: Semisep) -> Cov {
+        Cov {
+            factor: Factor::Windows(s),
+        }
+    }
+
     /// Factors `sigma` (n x n, row-major), first adding a constant to every element that makes
     /// a generalised covariance positive definite. `None` if it cannot be made so.
     pub fn new(sigma: &[f64], n: usize) -> Option<Cov> {
-        Self::factor(sigma, n, false)
-    }
-
-    /// As [`Cov::new`], the constant added from the start: one factorisation where a
-    /// generalised covariance (flicker, random walk) would take two. For designs with a
-    /// constant column, where the constant changes nothing.
-    pub fn shifted(sigma: &[f64], n: usize) -> Option<Cov> {
-        Self::factor(sigma, n, true)
-    }
-
-    fn factor(sigma: &[f64], n: usize, shift_first: bool) -> Option<Cov> {
         let scale = sigma.iter().fold(0.0f64, |s, v| s.max(v.abs()));
         if !(scale.is_finite() && scale > 0.0) {
             return None;
         }
-        let mut shift = if shift_first { 4.0 * scale } else { 0.0 };
+        let mut shift = 0.0;
         for _ in 0..6 {
             if let Some(chol) = cholesky(sigma, n, shift) {
-                return Some(Cov { n, chol });
+                return Some(Cov::dense(n, chol));
             }
             shift = if shift == 0.0 { 4.0 * scale } else { shift * 10.0 };
         }
@@ -65,23 +78,68 @@ impl Cov {
     /// Factors a true covariance as it is, with no constant added; `None` if it is not
     /// positive definite.
     pub fn exact(sigma: &[f64], n: usize) -> Option<Cov> {
-        cholesky(sigma, n, 0.0).map(|chol| Cov { n, chol })
+        cholesky(sigma, n, 0.0).map(|chol| Cov::dense(n, chol))
     }
 
-    /// `L^-1 v`.
-    pub fn whiten(&self, v: &[f64]) -> Vec<f64> {
-        let n = self.n;
-        let mut out = vec![0.0; n];
-        for i in 0..n {
-            let s: f64 = (0..i).map(|k| self.chol[i * n + k] * out[k]).sum();
-            out[i] = (v[i] - s) / self.chol[i * n + i];
+    fn dense(n: usize, chol: Vec<f64>) -> Cov {
+        Cov {
+            factor: Factor::Dense { n, chol },
         }
-        out
+    }
+
+    /// A whitening of `v`: `W v` with `W^T W = Sigma^-1` (`L^-1 v` for the dense factor).
+    pub fn whiten(&self, v: &[f64]) -> Vec<f64> {
+        match &self.factor {
+            Factor::Dense { n, chol } => {
+                let n = *n;
+                let mut out = vec![0.0; n];
+                for i in 0..n {
+                    let s: f64 = (0..i).map(|k| chol[i * n + k] * out[k]).sum();
+                    out[i] = (v[i] - s) / chol[i * n + i];
+                }
+                out
+            }
+            Factor::Windows(s) => s.whiten(v),
+        }
+    }
+
+    /// `W^T v`, the adjoint of [`Cov::whiten`].
+    pub fn adjoint(&self, v: &[f64]) -> Vec<f64> {
+        match &self.factor {
+            Factor::Dense { n, chol } => {
+                let n = *n;
+                let mut out = vec![0.0; n];
+                for i in (0..n).rev() {
+                    let s: f64 = (i + 1..n).map(|k| chol[k * n + i] * out[k]).sum();
+                    out[i] = (v[i] - s) / chol[i * n + i];
+                }
+                out
+            }
+            Factor::Windows(s) => s.adjoint(v),
+        }
+    }
+
+    /// `|W e_i|^2` and `|W s_i|^2` for every row `i`, `s_i` the step that is 1 from row `i`
+    /// on, the rows in time order.
+    pub fn indicator_and_step_norms(&self) -> (Vec<f64>, Vec<f64>) {
+        match &self.factor {
+            Factor::Dense { n, .. } => {
+                let norm = |x: Vec<f64>| self.whiten(&x).iter().map(|v| v * v).sum::<f64>();
+                let cut = |i: usize, step: bool| (0..*n).map(move |k| f64::from(u8::from(k == i || (step && k > i))));
+                (0..*n)
+                    .map(|i| (norm(cut(i, false).collect()), norm(cut(i, true).collect())))
+                    .unzip()
+            }
+            Factor::Windows(s) => s.indicator_and_step_norms(),
+        }
     }
 
     /// `ln det Sigma`.
     pub fn log_det(&self) -> f64 {
-        (0..self.n).map(|i| 2.0 * self.chol[i * self.n + i].ln()).sum()
+        match &self.factor {
+            Factor::Dense { n, chol } => (0..*n).map(|i| 2.0 * chol[i * n + i].ln()).sum(),
+            Factor::Windows(s) => s.log_det(),
+        }
     }
 }
 

@@ -22,6 +22,7 @@ pub mod range;
 pub mod recording;
 pub mod report;
 pub mod schedule;
+mod semisep;
 pub mod sim_compare;
 pub mod static_log;
 mod stats;

@@ -5,11 +5,13 @@
 //!   noise: REML sees only what the fit's columns cannot absorb).
 //!
 //! The white level is profiled out in closed form; the two colour ratios are searched on a
-//! logarithmic grid (zero included) and refined by halving the step. Every grid point keeps its
+//! logarithmic grid (zero included; its negligible corners skipped) and refined by halving
+//! the step. Every grid point keeps its
 //! likelihood and its GLS fit, so that a caller can average over the noise models the
 //! recording allows instead of trusting one estimate.
 
 use crate::gls::{self, Cov};
+use crate::semisep::Windows;
 use nf_model::noise::NoiseModel;
 use std::f64::consts::FRAC_1_SQRT_2;
 
@@ -78,50 +80,16 @@ fn unit_model(rb: f64, rk: f64) -> NoiseModel {
     }
 }
 
-/// The covariance of the dwell means is linear in the colour ratios:
-/// `white + rb flicker + rk walk`, each n x n, row-major.
-struct Basis {
-    n: usize,
-    white: Vec<f64>,
-    flicker: Vec<f64>,
-    walk: Vec<f64>,
-}
-
-impl Basis {
-    fn new(t_s: &[f64], dwell_s: f64) -> Basis {
-        let dwell = vec![dwell_s; t_s.len()];
-        let of = |m: NoiseModel| gls::window_covariance(&m, t_s, &dwell);
-        Basis {
-            n: t_s.len(),
-            white: of(unit_model(0.0, 0.0)),
-            flicker: of(NoiseModel {
-                bias_instability_dph: 1.0,
-                ..NoiseModel::WHITE_NONE
-            }),
-            walk: of(NoiseModel {
-                rrw_dph_rth: 60.0,
-                ..NoiseModel::WHITE_NONE
-            }),
-        }
-    }
-
-    /// The covariance at the ratios, factored.
-    fn cov(&self, rb: f64, rk: f64) -> Option<Cov> {
-        let sigma: Vec<f64> = (0..self.white.len())
-            .map(|i| self.white[i] + rb * self.flicker[i] + rk * self.walk[i])
-            .collect();
-        // Every design here has a constant column (Eq. 7's C).
-        Cov::shifted(&sigma, self.n)
-    }
-}
-
 struct Problem<'a> {
     data: Data<'a>,
     /// The designs estimated at once: `data.cols` first.
     designs: Vec<&'a [Vec<f64>]>,
     /// Scatter of the quarter contrasts, summed over dwells.
     scatter: [[f64; 3]; 3],
-    basis: Basis,
+    /// Every dwell's length, s.
+    dwells: Vec<f64>,
+    /// What every model shares about the dwells, when they are apart (as in a recording).
+    windows: Option<Windows>,
     evaluations: u32,
 }
 
@@ -130,8 +98,17 @@ impl Problem<'_> {
     /// for design `k`.
     fn profile(&mut self, rb: f64, rk: f64, k: usize) -> Option<Candidate> {
         self.evaluations += 1;
-        let cov = self.basis.cov(rb, rk)?;
+        let cov = self.cov(rb, rk)?;
         self.candidate(rb, rk, &cov, self.designs[k])
+    }
+
+    /// The covariance of the dwell means at the ratios, factored.
+    fn cov(&self, rb: f64, rk: f64) -> Option<Cov> {
+        let m = unit_model(rb, rk);
+        match &self.windows {
+            Some(w) => w.factor(&m).map(Cov::semiseparable),
+            None => Cov::of_windows(&m, self.data.t_s, &self.dwells),
+        }
     }
 
     /// The profile under the factored covariance `cov` of the ratios.
@@ -207,10 +184,21 @@ fn inverse3(m: &[[f64; 3]; 3]) -> Option<([[f64; 3]; 3], f64)> {
     Some((inv, det.ln()))
 }
 
-/// Grid of a colour ratio: zero, then half-decade steps of `unit` from 1e-4 to 1e4.
-fn grid(unit: f64) -> impl Iterator<Item = f64> + Clone {
-    std::iter::once(0.0).chain((-8..=8).map(move |k| unit * 10f64.powf(k as f64 / 2.0)))
+/// Points of a colour ratio's grid: zero, then half-decade steps from 1e-4 to 1e4 units.
+const GRID: usize = 18;
+
+/// The ratio at grid point `i`, in units of `unit`.
+fn grid(unit: f64, i: usize) -> f64 {
+    if i == 0 {
+        0.0
+    } else {
+        unit * 10f64.powf((i as f64 - 9.0) / 2.0)
+    }
 }
+
+/// A grid point this far below the best log-likelihood weighs under 1e-5 of it: its
+/// neighbours are not looked at.
+const NEGLIGIBLE: f64 = 12.0;
 
 /// Estimates white noise, flicker and rate random walk from a recording.
 pub fn estimate(data: Data<'_>) -> Option<Estimate> {
@@ -233,7 +221,8 @@ pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Vec<Option<E
     let dwell = data.dwell_s;
     let mut p = Problem {
         designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
-        basis: Basis::new(data.t_s, dwell),
+        windows: Windows::new(data.t_s, &vec![dwell; data.t_s.len()]),
+        dwells: vec![dwell; data.t_s.len()],
         data,
         scatter,
         evaluations: 0,
@@ -242,16 +231,38 @@ pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Vec<Option<E
     // the random walk over the run against it.
     let (ub, uk) = (1.0 / dwell, 1.0 / (dwell * span.max(dwell)));
     let mut cands: Vec<Vec<(f64, f64, Candidate)>> = vec![Vec::new(); p.designs.len()];
-    for rb in grid(ub) {
-        for rk in grid(uk) {
+    // Whole decades first, then the half decades next to a point that is not negligible for
+    // some design, until none is left: a sharp likelihood (a long run) costs a few dozen
+    // models, a flat one the whole grid.
+    let mut seen = [[None::<f64>; GRID]; GRID];
+    let mut next: Vec<(usize, usize)> = (0..GRID)
+        .filter(|i| i % 2 == 1 || *i == 0)
+        .flat_map(|i| (0..GRID).filter(|j| j % 2 == 1 || *j == 0).map(move |j| (i, j)))
+        .collect();
+    while !next.is_empty() {
+        for &(i, j) in &next {
+            let (rb, rk) = (grid(ub, i), grid(uk, j));
             p.evaluations += 1;
-            let Some(cov) = p.basis.cov(rb, rk) else { continue };
-            for (k, cols) in p.designs.iter().enumerate() {
-                if let Some(c) = p.candidate(rb, rk, &cov, cols) {
-                    cands[k].push((rb, rk, c));
+            let mut best = f64::MIN;
+            if let Some(cov) = p.cov(rb, rk) {
+                for (k, cols) in p.designs.iter().enumerate() {
+                    if let Some(c) = p.candidate(rb, rk, &cov, cols) {
+                        best = best.max(c.loglik);
+                        cands[k].push((rb, rk, c));
+                    }
                 }
             }
+            seen[i][j] = Some(best);
         }
+        let top = seen.iter().flatten().flatten().fold(f64::MIN, |m, &v| m.max(v));
+        next = (0..GRID)
+            .flat_map(|i| (0..GRID).map(move |j| (i, j)))
+            .filter(|&(i, j)| seen[i][j].is_none())
+            .filter(|&(i, j)| {
+                let near = |a: usize| a.saturating_sub(1)..=(a + 1).min(GRID - 1);
+                near(i).any(|a| near(j).any(|b| seen[a][b].is_some_and(|l| l >= top - NEGLIGIBLE)))
+            })
+            .collect();
     }
     cands
         .into_iter()

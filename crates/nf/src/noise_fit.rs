@@ -105,7 +105,7 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
     let (model, source, fits) = match choice {
         NoiseChoice::Given(m, s) => {
-            let cov = Cov::new(&gls::window_covariance(m, &t, &vec![dwell_s; n]), n)
+            let cov = Cov::of_windows(m, &t, &vec![dwell_s; n])
                 .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
             let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
             (*m, NoiseSource::Given(s.clone()), vec![(1.0, g.coef, g.cov)])
@@ -151,7 +151,7 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
     let var_psi = best.sigma_psi_deg.powi(2) + mean(&|a| (wrap_180(a.psi_deg - psi0) - dpsi).powi(2));
     let var_amp = best.sigma_amplitude_dph.powi(2) + mean(&|a| (a.amplitude_dph - amp).powi(2));
     // The whitened residuals of the chosen model tell whether it describes the recording.
-    let cov = Cov::new(&gls::window_covariance(&model, &t, &vec![dwell_s; n]), n)
+    let cov = Cov::of_windows(&model, &t, &vec![dwell_s; n])
         .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
     let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
     Ok(NoiseFit {

@@ -30,7 +30,7 @@ pub fn gyro_arcsec(model: &NoiseModel, s: &Schedule, latitude_deg: f64) -> Optio
         s.gamma_deg.iter().map(|g| g.to_radians().sin()).collect(),
     ];
     let cov_ab = if model.is_coloured() {
-        let cov = Cov::new(&gls::window_covariance(model, &s.t_mid_s, &vec![s.dwell_s; n]), n)?;
+        let cov = Cov::of_windows(model, &s.t_mid_s, &vec![s.dwell_s; n])?;
         gls::fit(&cols, &vec![0.0; n], &cov)?.cov
     } else {
         // Independent dwell means: least squares, no n x n factor needed.

@@ -110,11 +110,17 @@ impl State<'_> {
 
 /// F test of `big` (with `q` more columns) against `small`.
 pub fn nested_p(small: &Ls, big: &Ls, q: usize) -> f64 {
-    if big.dof == 0 || small.rss <= big.rss {
+    f_test(small.rss, big.rss, q, big.dof)
+}
+
+/// F test of a fit with RSS `big_rss` and `big_dof` degrees of freedom against one with `q`
+/// columns fewer and RSS `small_rss`.
+pub fn f_test(small_rss: f64, big_rss: f64, q: usize, big_dof: usize) -> f64 {
+    if big_dof == 0 || small_rss <= big_rss {
         return 1.0;
     }
-    let f = ((small.rss - big.rss) / q as f64) / big.s2();
-    f_sf(f, q as f64, big.dof as f64)
+    let f = ((small_rss - big_rss) / q as f64) / (big_rss / big_dof as f64);
+    f_sf(f, q as f64, big_dof as f64)
 }
 
 /// An effect of the catalogue: its signature in the data and its test.

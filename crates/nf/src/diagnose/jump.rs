@@ -1,8 +1,9 @@
 //! `bias_jump`: a step of the bias between two positions, scanned over the time order. The
 //! scan's best p-value is corrected for the n - 4 change points it chose from.
 
-use super::effect::{Change, Effect, Proposal, State, nested_p, param};
+use super::effect::{Change, Effect, Proposal, State, f_test, param};
 use super::kind::Kind;
+use super::scan::{Shape, scan};
 
 pub struct BiasJump;
 
@@ -18,21 +19,21 @@ impl Effect for BiasJump {
             return Vec::new();
         }
         let step = |j: usize| -> Vec<f64> { (0..n).map(|i| if i >= j { 1.0 } else { 0.0 }).collect() };
+        let fits = scan(s.drift, Shape::Step);
         let best = (2..n - 2)
             .filter_map(|j| {
-                let big = s.drift.model.fit_plus(&[s.drift.whitener.apply(&step(j))])?;
-                Some((nested_p(&s.drift.fit, &big, 1), j, big))
+                let big = fits[j]?;
+                Some((f_test(s.drift.fit.rss, big.rss, 1, big.dof), j, big))
             })
             .min_by(|a, b| a.0.total_cmp(&b.0));
         let Some((p, j, big)) = best else { return Vec::new() };
-        let k = s.drift.model.cols.len();
         let row = &d.rec.rows[j];
         vec![Proposal {
             kind: Kind::BiasJump,
             p: (p * (n - 4) as f64).min(1.0),
             change: Change::Columns(vec![step(j)]),
             parameters: vec![
-                param("size_dph", big.coef[k], Some(big.sigma(k))),
+                param("size_dph", big.coef, Some(big.sigma())),
                 param("time_s", (d.t[j - 1] + d.t[j]) / 2.0, None),
                 param("first_index_after", row.index as f64, None),
             ],

@@ -23,6 +23,7 @@ mod nonlinearity;
 mod notes;
 mod outliers;
 mod scale;
+mod scan;
 mod select;
 mod settling;
 mod shaft_tilt;

@@ -13,7 +13,7 @@ use super::model::Summary;
 use super::select::Finding;
 use super::tails::Tails;
 use super::whiten::Whitener;
-use crate::gls::{self, Cov};
+use crate::gls::Cov;
 use crate::linfit;
 use crate::noise_est::{self, Candidate};
 use crate::noise_fit::{NoiseChoice, dwell_of};
@@ -80,7 +80,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         if !m.is_coloured() {
             return Ok(Whitener::identity());
         }
-        Cov::new(&gls::window_covariance(m, &d.t, &vec![dwell_s; n]), n)
+        Cov::of_windows(m, &d.t, &vec![dwell_s; n])
             .map(Whitener::of)
             .ok_or_else(|| "the noise model gives no usable covariance".to_string())
     };

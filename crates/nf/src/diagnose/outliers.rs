@@ -4,6 +4,7 @@
 
 use super::effect::{Change, Effect, Proposal, State, param};
 use super::kind::Kind;
+use super::scan::{Shape, scan};
 use crate::stats::t_sf2;
 
 pub struct Outliers;
@@ -19,9 +20,10 @@ impl Effect for Outliers {
         if s.main.fit.dof < 3 {
             return Vec::new();
         }
+        let fits = scan(s.main, Shape::Indicator);
         let best = (0..n)
             .filter_map(|i| {
-                let big = s.main.model.fit_plus(&[s.main.whitener.apply(&d.indicator(i))])?;
+                let big = fits[i]?;
                 let t = ((s.main.fit.rss - big.rss).max(0.0) / big.s2()).sqrt();
                 Some((t, i, big))
             })
@@ -32,14 +34,13 @@ impl Effect for Outliers {
             _ => t_sf2(t, big.dof as f64),
         };
         let row = &d.rec.rows[i];
-        let k = s.main.model.cols.len();
         vec![Proposal {
             kind: Kind::Outliers,
             p: (p_one * n as f64).min(1.0),
             change: Change::Columns(vec![d.indicator(i)]),
             parameters: vec![
                 param("index", row.index as f64, None),
-                param("size_dph", big.coef[k], Some(big.sigma(k))),
+                param("size_dph", big.coef, Some(big.sigma())),
             ],
             location: format!(
                 "position {} (line {}, gamma {:.2} deg)",

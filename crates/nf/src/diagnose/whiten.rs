@@ -25,4 +25,20 @@ impl Whitener {
             None => v.to_vec(),
         }
     }
+
+    /// `W^T v`.
+    pub fn adjoint(&self, v: &[f64]) -> Vec<f64> {
+        match &self.cov {
+            Some(c) => c.adjoint(v),
+            None => v.to_vec(),
+        }
+    }
+
+    /// `|W e_i|^2` and `|W s_i|^2` of every row's indicator and of the step from it on.
+    pub fn indicator_and_step_norms(&self, n: usize) -> (Vec<f64>, Vec<f64>) {
+        match &self.cov {
+            Some(c) => c.indicator_and_step_norms(),
+            None => (vec![1.0; n], (0..n).map(|i| (n - i) as f64).collect()),
+        }
+    }
 }

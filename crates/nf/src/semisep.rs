@@ -1,0 +1,508 @@
+//! The covariance of dwell means under a gyro noise model, factored in O(n r^2) instead of
+//! O(n^3). Between two windows that do not overlap every term's covariance is semiseparable
+//! (the structure of Foreman-Mackey et al. 2017, "celerite"):
+//! - a Gauss-Markov term (variance `s^2`, time `tau`): `s^2 g_i g_j exp(-|c_i - c_j| / tau)`,
+//!   with `g = sinh(x/2) / (x/2)`, `x = T / tau`, the gain of a window of length `T`;
+//! - rate random walk started at `t0`: `K^2 (c_j - t0)` for window `j` before `i`;
+//! - flicker: Gauss-Markov terms spread evenly in `ln tau`, two per decade, each of variance
+//!   `h ln(10)` (a density of `2 h` per unit of `ln tau` makes the PSD `h / f`; at two per
+//!   decade its ripple is `2 |Gamma(1 + 4 pi i / ln 10)|`, 0.2 %), from a thousandth of a dwell
+//!   to 30 times the run. What is slower is a constant and a slope over the run: the constant
+//!   changes no contrast (see `crate::gls`), the slope's part beyond 30 runs is a few percent
+//!   of flicker's.
+//!
+//! Terms faster than a quarter of a window leave adjacent windows nearly independent and go
+//! into the diagonal only, which keeps every gain below `sinh(2)/2`.
+
+use nf_model::noise::NoiseModel;
+use std::f64::consts::LN_10;
+
+/// Flicker's Gauss-Markov terms per decade of correlation time.
+const PER_DECADE: i32 = 2;
+/// A term faster than this fraction of the longest window enters the diagonal only.
+const FAST: f64 = 0.25;
+
+/// A Gauss-Markov term: variance (deg/h)^2 and correlation time, s.
+struct Decay {
+    var: f64,
+    tau_s: f64,
+}
+
+/// The windows in time order and what every noise model shares about them: flicker's
+/// ladder of correlation times, each slow rung's gain and its decay from one window to the
+/// next. Built once; [`Windows::factor`] then costs O(n r^2) per model.
+#[derive(Debug, Clone)]
+pub struct Windows {
+    /// Index in the caller's order of each window in time order.
+    order: Vec<usize>,
+    /// Per window in time order: length, centre from the first window's start, and the
+    /// distance from the previous centre (0 for the first).
+    len: Vec<f64>,
+    centre: Vec<f64>,
+    gap: Vec<f64>,
+    longest: f64,
+    /// Flicker's rungs slower than [`FAST`] windows, and per window (n x rungs) their gains
+    /// and decays; the variance of the window mean that all rungs give, per unit of a rung's.
+    rungs: Vec<f64>,
+    gain: Vec<f64>,
+    decay: Vec<f64>,
+    ladder_var: Vec<f64>,
+}
+
+/// The `L D L^T` factor of a semiseparable covariance, windows in time order.
+#[derive(Debug, Clone)]
+pub struct Semisep {
+    order: Vec<usize>,
+    /// Rank of the off-diagonal part.
+    r: usize,
+    /// `D`, and the generators of `L` (n x r, row-major): `L_ij = u_i . (phi_{j+1..i} w_j)`.
+    d: Vec<f64>,
+    u: Vec<f64>,
+    w: Vec<f64>,
+    phi: Vec<f64>,
+}
+
+impl Windows {
+    /// The means of windows centred at `t_s` with lengths `dwell_s`. `None` when two windows
+    /// overlap (the structure needs them apart) or a time or length is not usable.
+    pub fn new(t_s: &[f64], dwell_s: &[f64]) -> Option<Windows> {
+        let n = t_s.len();
+        let usable = t_s.iter().all(|v| v.is_finite()) && dwell_s.iter().all(|v| v.is_finite() && *v > 0.0);
+        if n == 0 || dwell_s.len() != n || !usable {
+            return None;
+        }
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| t_s[a].total_cmp(&t_s[b]));
+        let apart = order.windows(2).all(|p| {
+            let (a, b) = (p[0], p[1]);
+            t_s[b] - t_s[a] >= (dwell_s[a] + dwell_s[b]) / 2.0 * (1.0 - 1e-9)
+        });
+        if !apart {
+            return None;
+        }
+        let t0 = t_s[order[0]] - dwell_s[order[0]] / 2.0;
+        let len: Vec<f64> = order.iter().map(|&i| dwell_s[i]).collect();
+        let centre: Vec<f64> = order.iter().map(|&i| t_s[i] - t0).collect();
+        let gap = (0..n)
+            .map(|k| if k == 0 { 0.0 } else { centre[k] - centre[k - 1] })
+            .collect();
+        let longest = len.iter().fold(0.0f64, |m, &v| m.max(v));
+        let span = centre[n - 1] + len[n - 1] / 2.0;
+        let ladder = ladder(longest, span);
+        let rungs: Vec<f64> = ladder.iter().copied().filter(|&tau| tau >= FAST * longest).collect();
+        let unit = |tau_s: f64| Decay { var: 1.0, tau_s };
+        let mut w = Windows {
+            ladder_var: len
+                .iter()
+                .map(|&l| ladder.iter().map(|&tau| unit(tau).mean_var(l)).sum())
+                .collect(),
+            gain: Vec::with_capacity(n * rungs.len()),
+            decay: Vec::with_capacity(n * rungs.len()),
+            order,
+            len,
+            centre,
+            gap,
+            longest,
+            rungs,
+        };
+        for k in 0..n {
+            for &tau in &w.rungs {
+                w.gain.push(unit(tau).gain(w.len[k]));
+                w.decay.push((-w.gap[k] / tau).exp());
+            }
+        }
+        Some(w)
+    }
+
+    /// The covariance of the window means under `model`, factored. `None` when it is not
+    /// numerically positive definite.
+    pub fn factor(&self, model: &NoiseModel) -> Option<Semisep> {
+        // Every rung of flicker's ladder has the variance `h ln 10 / PER_DECADE`.
+        let rung_var = 2.0 * model.flicker_h() * LN_10 / PER_DECADE as f64;
+        let m = if rung_var > 0.0 { self.rungs.len() } else { 0 };
+        let gm = (model.gm_sigma_dph > 0.0).then_some(Decay {
+            var: model.gm_sigma_dph * model.gm_sigma_dph,
+            tau_s: model.gm_tau_s,
+        });
+        let gm_slow = gm.as_ref().filter(|d| d.tau_s >= FAST * self.longest);
+        let walk = model.rrw_dph_rts();
+        let r = m + usize::from(gm_slow.is_some()) + usize::from(walk > 0.0);
+        let rung_sd = rung_var.sqrt();
+        let fill = |k: usize, row: &mut Row| {
+            let len = self.len[k];
+            row.diag = model.independent_var(len) + rung_var * self.ladder_var[k];
+            for j in 0..m {
+                row.u[j] = rung_sd * self.gain[k * self.rungs.len() + j];
+                row.v[j] = row.u[j];
+                row.phi[j] = self.decay[k * self.rungs.len() + j];
+            }
+            let mut j = m;
+            if let Some(d) = &gm {
+                row.diag += d.mean_var(len);
+                if gm_slow.is_some() {
+                    row.u[j] = d.var.sqrt() * d.gain(len);
+                    row.v[j] = row.u[j];
+                    row.phi[j] = (-self.gap[k] / d.tau_s).exp();
+                    j += 1;
+                }
+            }
+            if walk > 0.0 {
+                // The walk from the first window's start: `K^2 c_j` between j and a later i.
+                let c = self.centre[k];
+                row.diag += walk * walk * (c - len / 6.0);
+                row.u[j] = walk;
+                row.v[j] = walk * c;
+                row.phi[j] = 1.0;
+            }
+        };
+        Semisep::factor(self.order.clone(), r, fill)
+    }
+}
+
+/// One window's row of the generators, before factoring.
+struct Row {
+    diag: f64,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    phi: Vec<f64>,
+}
+
+impl Semisep {
+    /// The covariance of the means of windows centred at `t_s` with lengths `dwell_s` under
+    /// `model`, factored; `None` as [`Windows::new`] and [`Windows::factor`] say.
+    pub fn of_windows(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Option<Semisep> {
+        Windows::new(t_s, dwell_s)?.factor(model)
+    }
+
+    /// The recursion of the `L D L^T` factor, one window at a time; `fill` writes a window's
+    /// row of the generators.
+    fn factor(order: Vec<usize>, r: usize, fill: impl Fn(usize, &mut Row)) -> Option<Semisep> {
+        let n = order.len();
+        let mut f = Semisep {
+            order,
+            r,
+            d: Vec::with_capacity(n),
+            u: Vec::with_capacity(n * r),
+            w: Vec::with_capacity(n * r),
+            phi: Vec::with_capacity(n * r),
+        };
+        let mut row = Row {
+            diag: 0.0,
+            u: vec![0.0; r],
+            v: vec![0.0; r],
+            phi: vec![0.0; r],
+        };
+        // S = sum over earlier windows of D_j w_j w_j^T, carried to the current one.
+        let mut s = vec![0.0; r * r];
+        let mut su = vec![0.0; r];
+        for k in 0..n {
+            fill(k, &mut row);
+            if k > 0 {
+                let (d, w) = (f.d[k - 1], &f.w[(k - 1) * r..k * r]);
+                for a in 0..r {
+                    for b in 0..r {
+                        s[a * r + b] = row.phi[a] * row.phi[b] * (s[a * r + b] + d * w[a] * w[b]);
+                    }
+                }
+            }
+            for a in 0..r {
+                su[a] = (0..r).map(|b| s[a * r + b] * row.u[b]).sum();
+            }
+            let d = row.diag - (0..r).map(|a| row.u[a] * su[a]).sum::<f64>();
+            if d.is_nan() || d <= 1e-12 * row.diag {
+                return None;
+            }
+            f.d.push(d);
+            f.w.extend((0..r).map(|a| (row.v[a] - su[a]) / d));
+            f.u.extend_from_slice(&row.u);
+            f.phi.extend_from_slice(&row.phi);
+        }
+        Some(f)
+    }
+
+    /// A whitening of `v` (in the caller's order): `P^T D^-1/2 L^-1 P v`, whose Gram matrix is
+    /// the covariance's inverse.
+    pub fn whiten(&self, v: &[f64]) -> Vec<f64> {
+        let r = self.r;
+        let mut out = vec![0.0; v.len()];
+        let mut f = vec![0.0; r];
+        let mut prev = 0.0;
+        for (k, &i) in self.order.iter().enumerate() {
+            if k > 0 {
+                let (w, phi) = (&self.w[(k - 1) * r..k * r], &self.phi[k * r..(k + 1) * r]);
+                for a in 0..r {
+                    f[a] = phi[a] * (f[a] + w[a] * prev);
+                }
+            }
+            let u = &self.u[k * r..(k + 1) * r];
+            let z = v[i] - (0..r).map(|a| u[a] * f[a]).sum::<f64>();
+            out[i] = z / self.d[k].sqrt();
+            prev = z;
+        }
+        out
+    }
+
+    /// `ln det Sigma`.
+    pub fn log_det(&self) -> f64 {
+        self.d.iter().map(|d| d.ln()).sum()
+    }
+
+    /// `W^T v` for the whitening `W` of [`Semisep::whiten`]: its adjoint, backwards in time.
+    pub fn adjoint(&self, v: &[f64]) -> Vec<f64> {
+        let r = self.r;
+        let n = self.order.len();
+        let mut out = vec![0.0; n];
+        // The costate of the whitening's carried vector `f`.
+        let mut lambda = vec![0.0; r];
+        let mut carried = vec![0.0; r];
+        for k in (0..n).rev() {
+            let i = self.order[k];
+            let (u, w) = (&self.u[k * r..(k + 1) * r], &self.w[k * r..(k + 1) * r]);
+            if k + 1 < n {
+                let phi = &self.phi[(k + 1) * r..(k + 2) * r];
+                for a in 0..r {
+                    carried[a] = phi[a] * lambda[a];
+                }
+            } else {
+                carried.fill(0.0);
+            }
+            let t: f64 = (0..r).map(|a| w[a] * carried[a]).sum();
+            let scaled = v[i] / self.d[k].sqrt();
+            out[i] = scaled + t;
+            for a in 0..r {
+                lambda[a] = carried[a] - u[a] * (scaled + t);
+            }
+        }
+        out
+    }
+
+    /// `|W x|^2` for every indicator `x = e_i` and for every step `x = 1 (t >= t_i)`, both in
+    /// the caller's order (`i` names where the indicator is, and where the step begins).
+    /// One backward pass: the whitened cost of a constant input from window `m` on is a
+    /// quadratic `f^T G f - 2 g^T f + c` of the carried vector `f` it meets there.
+    pub fn indicator_and_step_norms(&self) -> (Vec<f64>, Vec<f64>) {
+        let r = self.r;
+        let n = self.order.len();
+        let (mut ind, mut step) = (vec![0.0; n], vec![0.0; n]);
+        let (mut gm, mut g, mut c) = (vec![0.0; r * r], vec![0.0; r], 0.0);
+        let (mut y, mut yw, mut pg) = (vec![0.0; r * r], vec![0.0; r], vec![0.0; r]);
+        for k in (0..n).rev() {
+            let (u, w, d) = (&self.u[k * r..(k + 1) * r], &self.w[k * r..(k + 1) * r], self.d[k]);
+            // Y = Phi G' Phi and Phi g' of the window after this one (none after the last).
+            if k + 1 < n {
+                let phi = &self.phi[(k + 1) * r..(k + 2) * r];
+                for a in 0..r {
+                    for b in 0..r {
+                        y[a * r + b] = phi[a] * gm[a * r + b] * phi[b];
+                    }
+                    pg[a] = phi[a] * g[a];
+                }
+            } else {
+                y.fill(0.0);
+                pg.fill(0.0);
+            }
+            for a in 0..r {
+                yw[a] = (0..r).map(|b| y[a * r + b] * w[b]).sum();
+            }
+            let s: f64 = (0..r).map(|a| w[a] * yw[a]).sum();
+            let t: f64 = (0..r).map(|a| w[a] * pg[a]).sum();
+            let i = self.order[k];
+            ind[i] = 1.0 / d + s;
+            c += 1.0 / d + s - 2.0 * t;
+            step[i] = c;
+            for a in 0..r {
+                for b in 0..r {
+                    gm[a * r + b] = y[a * r + b] - u[a] * yw[b] - yw[a] * u[b] + (s + 1.0 / d) * u[a] * u[b];
+                }
+                g[a] = u[a] / d - (yw[a] - u[a] * s) + pg[a] - u[a] * t;
+            }
+        }
+        (ind, step)
+    }
+}
+
+impl Decay {
+    /// Variance of one window mean of length `len`.
+    fn mean_var(&self, len: f64) -> f64 {
+        let x = len / self.tau_s;
+        self.var * 2.0 * (x + (-x).exp_m1()) / (x * x)
+    }
+
+    /// Gain of a window mean: its covariance with a later window's is `var g_i g_j exp(-dt/tau)`.
+    fn gain(&self, len: f64) -> f64 {
+        let h = len / (2.0 * self.tau_s);
+        h.sinh() / h
+    }
+}
+
+/// Flicker's correlation times for windows up to `longest_s` over a run of `span_s`: from a
+/// thousandth of a window to 30 runs, [`PER_DECADE`] to a decade.
+fn ladder(longest_s: f64, span_s: f64) -> Vec<f64> {
+    let step = 10f64.powf(1.0 / PER_DECADE as f64);
+    let top = 30.0 * span_s.max(longest_s) * step;
+    std::iter::successors(Some(longest_s / 1000.0), |tau| Some(tau * step))
+        .take_while(|&tau| tau < top)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gls::{self, Cov, window_covariance};
+    use nf_model::rng::Rng;
+
+    /// GLS fits of a design with a constant under the two factors agree: slopes, their
+    /// covariance, chi-square and REML likelihood (all invariant to the generalised
+    /// covariance's free constant and, for the walk, its origin).
+    fn agree(a: &Cov, b: &Cov, t: &[f64], rng: &mut Rng, tol: f64) {
+        let n = t.len();
+        let span = t[n - 1] - t[0];
+        let cols = vec![
+            vec![1.0; n],
+            (0..n).map(|i| (i as f64 * 0.7).cos()).collect(),
+            t.iter().map(|v| (v - t[0]) / span).collect(),
+        ];
+        let y: Vec<f64> = (0..n).map(|i| 0.1 * cols[1][i] + 0.01 * rng.gauss()).collect();
+        let (f, g) = (gls::fit(&cols, &y, a).unwrap(), gls::fit(&cols, &y, b).unwrap());
+        let close = |p: f64, q: f64, what: &str| {
+            assert!((p - q).abs() <= tol * q.abs().max(1e-300), "n {n}, {what}: {p} vs {q}");
+        };
+        for k in 1..3 {
+            close(f.cov[k][k], g.cov[k][k], "variance");
+        }
+        close(f.chi2, g.chi2, "chi-square");
+        close(
+            f.reml_loglik - f.chi2 * -0.5,
+            g.reml_loglik - g.chi2 * -0.5,
+            "REML log det",
+        );
+        // A coefficient is judged against its standard error.
+        close(f.coef[1] / g.cov[1][1].sqrt(), g.coef[1] / g.cov[1][1].sqrt(), "slope");
+    }
+
+    /// Irregular times, as orders with long and short moves make them.
+    fn times(rng: &mut Rng, n: usize, dwell: f64) -> Vec<f64> {
+        let mut t = vec![10.0];
+        for _ in 1..n {
+            t.push(t.last().unwrap() + dwell + rng.uniform(0.2, 3.2));
+        }
+        t
+    }
+
+    #[test]
+    fn exact_for_white_gauss_markov_and_random_walk() {
+        // These terms are exact: the fits agree with the dense factor of the model's own
+        // covariance to rounding.
+        let mut rng = Rng::new(11);
+        let model = NoiseModel {
+            gm_sigma_dph: 0.02,
+            gm_tau_s: 40.0,
+            rrw_dph_rth: 0.05,
+            quantization_arcsec: 0.3,
+            ..NoiseModel::white(0.01, 2.0)
+        };
+        let n = 60;
+        let t = times(&mut rng, n, 2.0);
+        let dwell = vec![2.0; n];
+        let f = Cov::of_windows(&model, &t, &dwell).unwrap();
+        let dense = Cov::new(&window_covariance(&model, &t, &dwell), n).unwrap();
+        agree(&f, &dense, &t, &mut rng, 1e-8);
+        // With no walk the covariance is proper: the log determinants agree too.
+        let stationary = NoiseModel {
+            rrw_dph_rth: 0.0,
+            ..model
+        };
+        let f = Semisep::of_windows(&stationary, &t, &dwell).unwrap();
+        let dense = Cov::exact(&window_covariance(&stationary, &t, &dwell), n).unwrap();
+        assert!((f.log_det() - dense.log_det()).abs() < 1e-8 * dense.log_det().abs());
+    }
+
+    #[test]
+    fn flicker_matches_the_exact_kernel() {
+        // Flicker's ladder against the exact generalised covariance, over runs of 20 to 1000
+        // dwells, flicker from a tenth to ten times the white noise of a dwell: to 0.3 %.
+        let mut rng = Rng::new(5);
+        for (n, b) in [(20, 0.01), (200, 0.001), (200, 0.1), (1000, 0.01)] {
+            let model = NoiseModel {
+                bias_instability_dph: b,
+                ..NoiseModel::white(0.01, 1.5)
+            };
+            let t = times(&mut rng, n, 1.5);
+            let dwell = vec![1.5; n];
+            let f = Cov::of_windows(&model, &t, &dwell).unwrap();
+            let dense = Cov::new(&window_covariance(&model, &t, &dwell), n).unwrap();
+            agree(&f, &dense, &t, &mut rng, 0.005);
+        }
+    }
+
+    #[test]
+    fn the_order_of_the_windows_does_not_matter() {
+        let mut rng = Rng::new(3);
+        let model = NoiseModel {
+            bias_instability_dph: 0.01,
+            rrw_dph_rth: 0.02,
+            ..NoiseModel::white(0.004, 1.0)
+        };
+        let n = 40;
+        let t = times(&mut rng, n, 1.0);
+        let mut shuffled: Vec<usize> = (0..n).collect();
+        for i in (1..n).rev() {
+            shuffled.swap(i, rng.next_u64() as usize % (i + 1));
+        }
+        let ts: Vec<f64> = shuffled.iter().map(|&i| t[i]).collect();
+        let a = Semisep::of_windows(&model, &t, &vec![1.0; n]).unwrap();
+        let b = Semisep::of_windows(&model, &ts, &vec![1.0; n]).unwrap();
+        let x: Vec<f64> = (0..n).map(|_| rng.gauss()).collect();
+        let xs: Vec<f64> = shuffled.iter().map(|&i| x[i]).collect();
+        let form = |f: &Semisep, v: &[f64]| f.whiten(v).iter().map(|p| p * p).sum::<f64>();
+        assert!((form(&a, &x) / form(&b, &xs) - 1.0).abs() < 1e-12);
+        assert!((a.log_det() - b.log_det()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn adjoint_and_norms_match_the_explicit_whitening() {
+        // W formed column by column from the whitening of unit vectors: the adjoint, the
+        // indicator norms (diagonal of Sigma^-1) and the step norms must agree with it.
+        let mut rng = Rng::new(21);
+        let model = NoiseModel {
+            bias_instability_dph: 0.02,
+            rrw_dph_rth: 0.03,
+            gm_sigma_dph: 0.01,
+            gm_tau_s: 30.0,
+            ..NoiseModel::white(0.01, 2.0)
+        };
+        let n = 50;
+        let mut t = times(&mut rng, n, 2.0);
+        t.swap(3, 17);
+        let f = Semisep::of_windows(&model, &t, &vec![2.0; n]).unwrap();
+        let unit = |i: usize| (0..n).map(|k| f64::from(u8::from(k == i))).collect::<Vec<f64>>();
+        let cols: Vec<Vec<f64>> = (0..n).map(|i| f.whiten(&unit(i))).collect();
+        let v: Vec<f64> = (0..n).map(|_| rng.gauss()).collect();
+        let adj = f.adjoint(&v);
+        let (ind, step) = f.indicator_and_step_norms();
+        for i in 0..n {
+            let want: f64 = (0..n).map(|k| cols[i][k] * v[k]).sum();
+            assert!((adj[i] - want).abs() < 1e-9 * want.abs().max(1.0), "adjoint {i}");
+            let norm: f64 = cols[i].iter().map(|x| x * x).sum();
+            assert!(
+                (ind[i] / norm - 1.0).abs() < 1e-9,
+                "indicator {i}: {} vs {norm}",
+                ind[i]
+            );
+            // The step from window i on, in time.
+            let x: Vec<f64> = (0..n).map(|k| f64::from(u8::from(t[k] >= t[i]))).collect();
+            let norm: f64 = f.whiten(&x).iter().map(|x| x * x).sum();
+            assert!((step[i] / norm - 1.0).abs() < 1e-9, "step {i}: {} vs {norm}", step[i]);
+        }
+    }
+
+    #[test]
+    fn overlapping_or_bad_windows_are_refused() {
+        let m = NoiseModel::white(0.01, 2.0);
+        assert!(Semisep::of_windows(&m, &[0.0, 1.0], &[2.0, 2.0]).is_none());
+        assert!(Semisep::of_windows(&m, &[0.0, f64::NAN], &[2.0, 2.0]).is_none());
+        assert!(Semisep::of_windows(&m, &[0.0, 3.0], &[2.0, 0.0]).is_none());
+        assert!(Semisep::of_windows(&m, &[], &[]).is_none());
+        assert!(Semisep::of_windows(&m, &[0.0, 3.0], &[2.0, 2.0]).is_some());
+    }
+}
