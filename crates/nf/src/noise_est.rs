@@ -93,7 +93,37 @@ struct Problem<'a> {
     evaluations: u32,
 }
 
-impl Problem<'_> {
+impl<'a> Problem<'a> {
+    fn new(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Problem<'a> {
+        let mut scatter = [[0.0; 3]; 3];
+        for q in data.quarters {
+            let c: Vec<f64> = HELMERT.iter().map(|h| (0..4).map(|k| h[k] * q[k]).sum()).collect();
+            for i in 0..3 {
+                for j in 0..3 {
+                    scatter[i][j] += c[i] * c[j];
+                }
+            }
+        }
+        let dwells = vec![data.dwell_s; data.t_s.len()];
+        Problem {
+            designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
+            windows: Windows::new(data.t_s, &dwells),
+            dwells,
+            data,
+            scatter,
+            evaluations: 0,
+        }
+    }
+
+    /// Units that make the ratios dimensionless: flicker against a dwell's white variance,
+    /// the random walk over the run against it.
+    fn units(&self) -> (f64, f64) {
+        let t = self.data.t_s;
+        let span = t.iter().fold(0.0f64, |m, &t| m.max(t)) - t.iter().fold(f64::MAX, |m, &t| m.min(t));
+        let dwell = self.data.dwell_s;
+        (1.0 / dwell, 1.0 / (dwell * span.max(dwell)))
+    }
+
     /// The model at the colour ratios with the white level that maximises the likelihood,
     /// for design `k`.
     fn profile(&mut self, rb: f64, rk: f64, k: usize) -> Option<Candidate> {
@@ -208,28 +238,8 @@ pub fn estimate(data: Data<'_>) -> Option<Estimate> {
 /// [`estimate`] for `data` and for each of `more` designs of the same recording (other
 /// columns, the same dwell means): the grid's covariances are factored once for all.
 pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Vec<Option<Estimate>> {
-    let mut scatter = [[0.0; 3]; 3];
-    for q in data.quarters {
-        let c: Vec<f64> = HELMERT.iter().map(|h| (0..4).map(|k| h[k] * q[k]).sum()).collect();
-        for i in 0..3 {
-            for j in 0..3 {
-                scatter[i][j] += c[i] * c[j];
-            }
-        }
-    }
-    let span = data.t_s.iter().fold(0.0f64, |m, &t| m.max(t)) - data.t_s.iter().fold(f64::MAX, |m, &t| m.min(t));
-    let dwell = data.dwell_s;
-    let mut p = Problem {
-        designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
-        windows: Windows::new(data.t_s, &vec![dwell; data.t_s.len()]),
-        dwells: vec![dwell; data.t_s.len()],
-        data,
-        scatter,
-        evaluations: 0,
-    };
-    // Units that make the ratios dimensionless: flicker against a dwell's white variance,
-    // the random walk over the run against it.
-    let (ub, uk) = (1.0 / dwell, 1.0 / (dwell * span.max(dwell)));
+    let mut p = Problem::new(data, more);
+    let (ub, uk) = p.units();
     let mut cands: Vec<Vec<(f64, f64, Candidate)>> = vec![Vec::new(); p.designs.len()];
     // Whole decades first, then the half decades next to a point that is not negligible for
     // some design, until none is left: a sharp likelihood (a long run) costs a few dozen
@@ -295,4 +305,68 @@ fn refine(p: &mut Problem, k: usize, cands: Vec<(f64, f64, Candidate)>) -> Optio
         dof: p.data.t_s.len() - p.designs[k].len() + 3 * p.data.quarters.len(),
         evaluations: p.evaluations,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nf_model::rng::Rng;
+
+    struct Run {
+        t: Vec<f64>,
+        cols: Vec<Vec<f64>>,
+        y: Vec<f64>,
+        quarters: Vec<[f64; 4]>,
+    }
+
+    /// Dwell means of a sequential run under white noise, with a random walk of `walk` per
+    /// dwell, and their quarters.
+    fn run(n: usize, walk: f64, seed: u64) -> Run {
+        let mut rng = Rng::new(seed);
+        let t: Vec<f64> = (0..n).map(|i| 5.0 + 1.2 * i as f64).collect();
+        let g: Vec<f64> = (0..n).map(|i| (i as f64 * 360.0 / n as f64).to_radians()).collect();
+        let cols = vec![
+            vec![1.0; n],
+            g.iter().map(|g| g.cos()).collect(),
+            g.iter().map(|g| g.sin()).collect(),
+        ];
+        let mut bias = 0.0;
+        let quarters: Vec<[f64; 4]> = (0..n)
+            .map(|i| {
+                bias += walk * rng.gauss();
+                core::array::from_fn(|_| 3.0 + 10.0 * cols[1][i] + bias + 0.02 * rng.gauss())
+            })
+            .collect();
+        let y = quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect();
+        Run { t, cols, y, quarters }
+    }
+
+    #[test]
+    fn skipping_negligible_corners_finds_the_grid_maximum() {
+        for (n, walk, seed) in [(60, 0.0, 1), (400, 0.0, 2), (400, 0.003, 3), (2000, 0.001, 4)] {
+            let r = run(n, walk, seed);
+            let data = Data {
+                t_s: &r.t,
+                dwell_s: 1.0,
+                cols: &r.cols,
+                y: &r.y,
+                quarters: &r.quarters,
+            };
+            let e = estimate(data.clone()).unwrap();
+            let grid_best = e.grid.iter().map(|c| c.loglik).fold(f64::MIN, f64::max);
+            let mut p = Problem::new(data, &[]);
+            let (ub, uk) = p.units();
+            let whole = (0..GRID)
+                .flat_map(|i| (0..GRID).map(move |j| (i, j)))
+                .filter_map(|(i, j)| p.profile(grid(ub, i), grid(uk, j), 0))
+                .map(|c| c.loglik)
+                .fold(f64::MIN, f64::max);
+            assert!(
+                (grid_best - whole).abs() < 1e-9 * whole.abs(),
+                "n {n}: {grid_best} vs {whole}"
+            );
+            assert!(e.grid.len() < GRID * GRID, "n {n}: {} models", e.grid.len());
+            println!("n {n}, walk {walk}: {} of {} grid models", e.grid.len(), GRID * GRID);
+        }
+    }
 }
