@@ -1,12 +1,13 @@
-//! The gyro's noise estimated from one recording, by restricted maximum likelihood: white noise,
-//! flicker (bias instability) and rate random walk, from
+//! The gyro's noise estimated from one recording, by restricted maximum likelihood: white noise
+//! with flicker (bias instability) and rate random walk, or with a first-order Gauss-Markov
+//! bias, from
 //! - the quarter means of each dwell (the short-time noise: three contrasts per dwell), and
 //! - the dwell means in time order, through the residuals of the azimuth fit (the long-time
 //!   noise: REML sees only what the fit's columns cannot absorb).
 //!
-//! The white level is profiled out in closed form; the two colour ratios are searched on a
-//! logarithmic grid (zero included; its negligible corners skipped) and refined by halving
-//! the step. Every grid point keeps its
+//! The white level is profiled out in closed form; each family's two parameters are searched
+//! on a logarithmic grid (zero included for flicker and walk; negligible corners skipped) and
+//! the best refined by halving the step. Every grid point keeps its
 //! likelihood and its GLS fit, so that a caller can average over the noise models the
 //! recording allows instead of trusting one estimate.
 
@@ -69,14 +70,64 @@ const HELMERT: [[f64; 4]; 3] = [
     ],
 ];
 
-/// The model with white density 1 ((deg/h)^2 s) and colour ratios `rb` (B^2, per s) and `rk`
-/// (K^2 in (deg/h)^2/s, per s^2).
-fn unit_model(rb: f64, rk: f64) -> NoiseModel {
+/// The two families of coloured noise the estimate searches beside white noise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Family {
+    /// Flicker and rate random walk: ratios `rb` (B^2, per s) and `rk` (K^2 in
+    /// (deg/h)^2/s, per s^2) to the white density.
+    Wander,
+    /// A first-order Gauss-Markov bias: its variance's ratio to the white density (per s)
+    /// and its correlation time, s.
+    GaussMarkov,
+}
+
+/// One model of a family, by its two parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Point {
+    family: Family,
+    a: f64,
+    b: f64,
+}
+
+impl Point {
+    /// The model with white density 1 ((deg/h)^2 s).
+    fn unit_model(&self) -> NoiseModel {
+        let white = NoiseModel {
+            arw_deg_rth: 1.0 / 60.0,
+            ..NoiseModel::WHITE_NONE
+        };
+        match self.family {
+            Family::Wander => NoiseModel {
+                bias_instability_dph: self.a.sqrt(),
+                rrw_dph_rth: 60.0 * self.b.sqrt(),
+                ..white
+            },
+            Family::GaussMarkov => NoiseModel {
+                gm_sigma_dph: self.a.sqrt(),
+                gm_tau_s: self.b,
+                ..white
+            },
+        }
+    }
+
+    fn scaled(&self, fa: f64, fb: f64) -> Point {
+        Point {
+            a: self.a * fa,
+            b: self.b * fb,
+            ..*self
+        }
+    }
+}
+
+/// `m` with every variance multiplied by `w`.
+fn scaled(m: &NoiseModel, w: f64) -> NoiseModel {
+    let s = w.sqrt();
     NoiseModel {
-        arw_deg_rth: 1.0 / 60.0,
-        bias_instability_dph: rb.sqrt(),
-        rrw_dph_rth: 60.0 * rk.sqrt(),
-        ..NoiseModel::WHITE_NONE
+        arw_deg_rth: m.arw_deg_rth * s,
+        bias_instability_dph: m.bias_instability_dph * s,
+        rrw_dph_rth: m.rrw_dph_rth * s,
+        gm_sigma_dph: m.gm_sigma_dph * s,
+        ..*m
     }
 }
 
@@ -115,36 +166,52 @@ impl<'a> Problem<'a> {
         }
     }
 
+    /// The median time between consecutive dwells, s.
+    fn spacing(&self) -> f64 {
+        let mut t = self.data.t_s.to_vec();
+        t.sort_by(f64::total_cmp);
+        let mut dt: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+        dt.sort_by(f64::total_cmp);
+        dt.get(dt.len() / 2)
+            .copied()
+            .unwrap_or(self.data.dwell_s)
+            .max(self.data.dwell_s)
+    }
+
     /// Units that make the ratios dimensionless: flicker against a dwell's white variance,
     /// the random walk over the run against it.
     fn units(&self) -> (f64, f64) {
+        let dwell = self.data.dwell_s;
+        (1.0 / dwell, 1.0 / (dwell * self.span()))
+    }
+
+    /// From the first dwell's centre to the last's, at least a dwell, s.
+    fn span(&self) -> f64 {
         let t = self.data.t_s;
         let span = t.iter().fold(0.0f64, |m, &t| m.max(t)) - t.iter().fold(f64::MAX, |m, &t| m.min(t));
-        let dwell = self.data.dwell_s;
-        (1.0 / dwell, 1.0 / (dwell * span.max(dwell)))
+        span.max(self.data.dwell_s)
     }
 
-    /// The model at the colour ratios with the white level that maximises the likelihood,
-    /// for design `k`.
-    fn profile(&mut self, rb: f64, rk: f64, k: usize) -> Option<Candidate> {
+    /// The model at `at` with the white level that maximises the likelihood, for design `k`.
+    fn profile(&mut self, at: Point, k: usize) -> Option<Candidate> {
         self.evaluations += 1;
-        let cov = self.cov(rb, rk)?;
-        self.candidate(rb, rk, &cov, self.designs[k])
+        let cov = self.cov(at)?;
+        self.candidate(at, &cov, self.designs[k])
     }
 
-    /// The covariance of the dwell means at the ratios, factored.
-    fn cov(&self, rb: f64, rk: f64) -> Option<Cov> {
-        let m = unit_model(rb, rk);
+    /// The covariance of the dwell means at `at`, factored.
+    fn cov(&self, at: Point) -> Option<Cov> {
+        let m = at.unit_model();
         match &self.windows {
             Some(w) => w.factor(&m).map(Cov::semiseparable),
             None => Cov::of_windows(&m, self.data.t_s, &self.dwells),
         }
     }
 
-    /// The profile under the factored covariance `cov` of the ratios.
-    fn candidate(&self, rb: f64, rk: f64, cov: &Cov, cols: &[Vec<f64>]) -> Option<Candidate> {
+    /// The profile under the factored covariance `cov` of `at`.
+    fn candidate(&self, at: Point, cov: &Cov, cols: &[Vec<f64>]) -> Option<Candidate> {
         let d = &self.data;
-        let m = unit_model(rb, rk);
+        let m = at.unit_model();
         let g = gls::fit(cols, d.y, cov)?;
         // -2 loglik = N ln W + a + q / W, with the dwell means' REML and the quarter contrasts.
         let mut a = -2.0 * g.reml_loglik - g.chi2;
@@ -164,10 +231,7 @@ impl<'a> Problem<'a> {
         let n = count as f64;
         let w = q / n;
         (w > 0.0).then(|| Candidate {
-            model: NoiseModel {
-                arw_deg_rth: w.sqrt() / 60.0,
-                ..unit_model(rb * w, rk * w)
-            },
+            model: scaled(&m, w),
             loglik: -0.5 * (n * w.ln() + a + n),
             coef: g.coef,
             cov: g.cov.iter().map(|r| r.iter().map(|v| v * w).collect()).collect(),
@@ -214,15 +278,74 @@ fn inverse3(m: &[[f64; 3]; 3]) -> Option<([[f64; 3]; 3], f64)> {
     Some((inv, det.ln()))
 }
 
-/// Points of a colour ratio's grid: zero, then half-decade steps from 1e-4 to 1e4 units.
-const GRID: usize = 18;
+/// A family's grid: the values of its two parameters, and which of them are whole decades
+/// (searched first).
+struct Grid {
+    family: Family,
+    a: Vec<f64>,
+    b: Vec<f64>,
+    coarse_a: Vec<bool>,
+    coarse_b: Vec<bool>,
+}
 
-/// The ratio at grid point `i`, in units of `unit`.
-fn grid(unit: f64, i: usize) -> f64 {
-    if i == 0 {
-        0.0
-    } else {
-        unit * 10f64.powf((i as f64 - 9.0) / 2.0)
+/// Half-decade steps of `unit` from 1e-4 to 1e4, and which are whole decades.
+fn ratios(unit: f64) -> (Vec<f64>, Vec<bool>) {
+    (-8..=8)
+        .map(|k| (unit * 10f64.powf(k as f64 / 2.0), k % 2 == 0))
+        .unzip()
+}
+
+impl Grid {
+    /// Flicker and random walk, each ratio zero or from 1e-4 to 1e4 units: 18 x 18.
+    fn wander(ub: f64, uk: f64) -> Grid {
+        let with_zero = |unit: f64| {
+            let (v, c) = ratios(unit);
+            (
+                std::iter::once(0.0).chain(v).collect(),
+                std::iter::once(true).chain(c).collect(),
+            )
+        };
+        let ((a, coarse_a), (b, coarse_b)) = (with_zero(ub), with_zero(uk));
+        Grid {
+            family: Family::Wander,
+            a,
+            b,
+            coarse_a,
+            coarse_b,
+        }
+    }
+
+    /// A Gauss-Markov bias: its variance 1e-4 to 1e4 units, its time in half decades from
+    /// three spacings of the dwells to the run. Shorter, it is extra noise of each dwell mean
+    /// that flicker's short end makes as well; longer, a walk.
+    fn gauss_markov(unit: f64, spacing_s: f64, span_s: f64) -> Grid {
+        let (a, coarse_a) = ratios(unit);
+        let shortest = 3.0 * spacing_s;
+        let (b, coarse_b) = (0..)
+            .map(|k| (shortest * 10f64.powf(k as f64 / 2.0), k % 2 == 0))
+            .take_while(|&(tau, _)| tau <= span_s.max(shortest))
+            .unzip();
+        Grid {
+            family: Family::GaussMarkov,
+            a,
+            b,
+            coarse_a,
+            coarse_b,
+        }
+    }
+
+    fn point(&self, i: usize, j: usize) -> Point {
+        Point {
+            family: self.family,
+            a: self.a[i],
+            b: self.b[j],
+        }
+    }
+
+    fn coarse(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (0..self.a.len())
+            .filter(|&i| self.coarse_a[i])
+            .flat_map(move |i| (0..self.b.len()).filter(|&j| self.coarse_b[j]).map(move |j| (i, j)))
     }
 }
 
@@ -240,39 +363,50 @@ pub fn estimate(data: Data<'_>) -> Option<Estimate> {
 pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Vec<Option<Estimate>> {
     let mut p = Problem::new(data, more);
     let (ub, uk) = p.units();
-    let mut cands: Vec<Vec<(f64, f64, Candidate)>> = vec![Vec::new(); p.designs.len()];
+    let grids = [Grid::wander(ub, uk), Grid::gauss_markov(ub, p.spacing(), p.span())];
+    let mut cands: Vec<Vec<(Point, Candidate)>> = vec![Vec::new(); p.designs.len()];
     // Whole decades first, then the half decades next to a point that is not negligible for
     // some design, until none is left: a sharp likelihood (a long run) costs a few dozen
     // models, a flat one the whole grid.
-    let mut seen = [[None::<f64>; GRID]; GRID];
-    let mut next: Vec<(usize, usize)> = (0..GRID)
-        .filter(|i| i % 2 == 1 || *i == 0)
-        .flat_map(|i| (0..GRID).filter(|j| j % 2 == 1 || *j == 0).map(move |j| (i, j)))
+    let mut seen: Vec<Vec<Vec<Option<f64>>>> = grids.iter().map(|g| vec![vec![None; g.b.len()]; g.a.len()]).collect();
+    let mut next: Vec<(usize, usize, usize)> = grids
+        .iter()
+        .enumerate()
+        .flat_map(|(f, g)| g.coarse().map(move |(i, j)| (f, i, j)))
         .collect();
     while !next.is_empty() {
-        for &(i, j) in &next {
-            let (rb, rk) = (grid(ub, i), grid(uk, j));
+        for &(f, i, j) in &next {
+            let at = grids[f].point(i, j);
             p.evaluations += 1;
             let mut best = f64::MIN;
-            if let Some(cov) = p.cov(rb, rk) {
+            if let Some(cov) = p.cov(at) {
                 for (k, cols) in p.designs.iter().enumerate() {
-                    if let Some(c) = p.candidate(rb, rk, &cov, cols) {
+                    if let Some(c) = p.candidate(at, &cov, cols) {
                         best = best.max(c.loglik);
-                        cands[k].push((rb, rk, c));
+                        cands[k].push((at, c));
                     }
                 }
             }
-            seen[i][j] = Some(best);
+            seen[f][i][j] = Some(best);
         }
-        let top = seen.iter().flatten().flatten().fold(f64::MIN, |m, &v| m.max(v));
-        next = (0..GRID)
-            .flat_map(|i| (0..GRID).map(move |j| (i, j)))
-            .filter(|&(i, j)| seen[i][j].is_none())
-            .filter(|&(i, j)| {
-                let near = |a: usize| a.saturating_sub(1)..=(a + 1).min(GRID - 1);
-                near(i).any(|a| near(j).any(|b| seen[a][b].is_some_and(|l| l >= top - NEGLIGIBLE)))
-            })
-            .collect();
+        let top = seen
+            .iter()
+            .flatten()
+            .flatten()
+            .flatten()
+            .fold(f64::MIN, |m, &v| m.max(v));
+        next = Vec::new();
+        for (f, s) in seen.iter().enumerate() {
+            let (na, nb) = (s.len(), s[0].len());
+            let near = |a: usize, n: usize| a.saturating_sub(1)..=(a + 1).min(n - 1);
+            for i in 0..na {
+                for j in (0..nb).filter(|&j| s[i][j].is_none()) {
+                    if near(i, na).any(|a| near(j, nb).any(|b| s[a][b].is_some_and(|l| l >= top - NEGLIGIBLE))) {
+                        next.push((f, i, j));
+                    }
+                }
+            }
+        }
     }
     cands
         .into_iter()
@@ -282,26 +416,26 @@ pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Vec<Option<E
 }
 
 /// The best of design `k`'s grid, refined in log steps, halving from the grid's half decade.
-fn refine(p: &mut Problem, k: usize, cands: Vec<(f64, f64, Candidate)>) -> Option<Estimate> {
-    let (mut rb, mut rk, mut best) = cands.iter().max_by(|a, b| a.2.loglik.total_cmp(&b.2.loglik))?.clone();
+fn refine(p: &mut Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<Estimate> {
+    let (mut at, mut best) = cands.iter().max_by(|a, b| a.1.loglik.total_cmp(&b.1.loglik))?.clone();
     let mut step = 10f64.powf(0.5);
     for _ in 0..6 {
         step = step.sqrt();
-        for (fb, fk) in [(step, 1.0), (1.0 / step, 1.0), (1.0, step), (1.0, 1.0 / step)] {
-            let (cb, ck) = (rb * fb, rk * fk);
-            if cb == rb && ck == rk {
+        for (fa, fb) in [(step, 1.0), (1.0 / step, 1.0), (1.0, step), (1.0, 1.0 / step)] {
+            let moved = at.scaled(fa, fb);
+            if moved == at {
                 continue;
             }
-            if let Some(c) = p.profile(cb, ck, k)
+            if let Some(c) = p.profile(moved, k)
                 && c.loglik > best.loglik
             {
-                (rb, rk, best) = (cb, ck, c);
+                (at, best) = (moved, c);
             }
         }
     }
     Some(Estimate {
         best,
-        grid: cands.into_iter().map(|c| c.2).collect(),
+        grid: cands.into_iter().map(|c| c.1).collect(),
         dof: p.data.t_s.len() - p.designs[k].len() + 3 * p.data.quarters.len(),
         evaluations: p.evaluations,
     })
@@ -356,17 +490,22 @@ mod tests {
             let grid_best = e.grid.iter().map(|c| c.loglik).fold(f64::MIN, f64::max);
             let mut p = Problem::new(data, &[]);
             let (ub, uk) = p.units();
-            let whole = (0..GRID)
-                .flat_map(|i| (0..GRID).map(move |j| (i, j)))
-                .filter_map(|(i, j)| p.profile(grid(ub, i), grid(uk, j), 0))
+            let grids = [Grid::wander(ub, uk), Grid::gauss_markov(ub, p.spacing(), p.span())];
+            let points: Vec<Point> = grids
+                .iter()
+                .flat_map(|g| (0..g.a.len()).flat_map(move |i| (0..g.b.len()).map(move |j| g.point(i, j))))
+                .collect();
+            let whole = points
+                .iter()
+                .filter_map(|&at| p.profile(at, 0))
                 .map(|c| c.loglik)
                 .fold(f64::MIN, f64::max);
             assert!(
                 (grid_best - whole).abs() < 1e-9 * whole.abs(),
                 "n {n}: {grid_best} vs {whole}"
             );
-            assert!(e.grid.len() < GRID * GRID, "n {n}: {} models", e.grid.len());
-            println!("n {n}, walk {walk}: {} of {} grid models", e.grid.len(), GRID * GRID);
+            assert!(e.grid.len() < points.len(), "n {n}: {} models", e.grid.len());
+            println!("n {n}, walk {walk}: {} of {} grid models", e.grid.len(), points.len());
         }
     }
 }

@@ -88,23 +88,27 @@ fn false_alarms(noise: fn(f64) -> NoiseModel, runs: u64) -> (u32, u32) {
     (ours, whites)
 }
 
-/// How often the colour is named at a given ratio.
-fn colour_found(noise: NoiseModel, colour: Kind, runs: u64) -> u32 {
+/// How often the colour is named at a given ratio, and how often any colour of the noise.
+fn colour_found(noise: NoiseModel, colour: Kind, runs: u64) -> (u32, u32) {
     (0..runs)
         .map(|seed| {
-            named(
-                &diagnose(&clean(noise, 700 + seed), &Options::default()).unwrap(),
-                colour,
-            ) as u32
+            let d = diagnose(&clean(noise, 700 + seed), &Options::default()).unwrap();
+            let any = d
+                .findings
+                .iter()
+                .any(|f| f.effect.is_noise() && f.effect != Kind::HeavyTails);
+            (named(&d, colour) as u32, any as u32)
         })
-        .sum()
+        .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
 #[test]
 fn flicker_is_a_finding_not_a_catalogue_effect() {
     let (ours, whites) = false_alarms(flicker, 40);
-    let found = colour_found(flicker(5.0), Kind::BiasInstability, 20);
-    println!("flicker: false alarms {ours}/40 (told white: {whites}/40); at 5 times, named {found}/20");
+    let (found, coloured) = colour_found(flicker(5.0), Kind::BiasInstability, 20);
+    println!(
+        "flicker: false alarms {ours}/40 (told white: {whites}/40); at 5 times, named {found}/20, a colour {coloured}/20"
+    );
     // alpha = 0.05: 6 or more of 40 has probability 1.4 %.
     assert!(ours <= 5, "{ours} false alarms of 40");
     assert!(
@@ -112,22 +116,27 @@ fn flicker_is_a_finding_not_a_catalogue_effect() {
         "a white-noise test would not have done worse: {whites}"
     );
     assert!(found >= 10, "bias_instability named in {found} of 20");
+    assert!(coloured >= 12, "no colour named in {} of 20", 20 - coloured);
 }
 
 #[test]
 fn a_random_walk_is_a_finding_not_a_drift() {
     let (ours, whites) = false_alarms(random_walk, 40);
-    let found = colour_found(random_walk(20.0), Kind::RateRandomWalk, 20);
-    println!("random walk: false alarms {ours}/40 (told white: {whites}/40); at 20 times, named {found}/20");
+    let (found, coloured) = colour_found(random_walk(20.0), Kind::RateRandomWalk, 20);
+    println!(
+        "random walk: false alarms {ours}/40 (told white: {whites}/40); at 20 times, named {found}/20, a colour {coloured}/20"
+    );
     // Over one run a random walk of this size and a drift are hard to tell apart: the goal of
-    // 5 % is not met (11 of 40 today); what holds is that the noise model halves the white
+    // 5 % is not met (10 of 40 today); what holds is that the noise model halves the white
     // test's rate, and no more than that is claimed here.
     assert!(ours <= 16, "{ours} false alarms of 40");
     assert!(
         2 * ours <= whites + 4,
         "the noise model does not help: {ours} against {whites}"
     );
-    assert!(found >= 13, "rate_random_walk named in {found} of 20");
+    // Over one run a slow Gauss-Markov bias is a walk too: either is the right finding.
+    assert!(found >= 10, "rate_random_walk named in {found} of 20");
+    assert!(coloured >= 15, "no colour named in {} of 20", 20 - coloured);
 }
 
 /// Student-t noise of 3 dof on the dwell means, or one burst on Gaussian noise. The quarter
@@ -193,11 +202,12 @@ fn the_final_sigma_carries_the_noise_models_uncertainty() {
     let (fin, sel) = rms_z(flicker(3.0), 40);
     let (white_fin, _) = rms_z(white(), 40);
     println!("flicker: RMS error/sigma final {fin:.2}, selected model alone {sel:.2}; white: final {white_fin:.2}");
-    // One estimate of the noise is too sure of itself; averaging over the models the
+    // One estimate of the noise is a little too sure of itself (1.1 to 1.3 since it has a
+    // Gauss-Markov family, 1.8 with flicker and walk alone); averaging over the models the
     // recording allows is not, and on white noise it stays within a factor two of exact.
     assert!(
-        sel > 1.3,
-        "the selected model's sigma is honest already ({sel:.2}): nothing to test"
+        sel > fin,
+        "averaging over the noise models made the sigma smaller: {fin:.2} against {sel:.2} alone"
     );
     assert!(
         (0.7..1.3).contains(&fin),

@@ -1,6 +1,6 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
-use super::noise_args::NoiseArgs;
+use super::noise_args::{NoiseArgs, colour_text};
 use super::{Fail, diagnose_sim, read_recording, write_out};
 use crate::diagnose::{Diagnosis, Options, Point, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
@@ -211,21 +211,17 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     let b = d.baseline;
     writeln!(out, "noise model: {}", d.noise_source)?;
     let m = &d.noise_model;
-    writeln!(
-        out,
-        "     N {:.3e} deg/rt(h), B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
-        m.arw_deg_rth, m.bias_instability_dph, m.rrw_dph_rth
-    )?;
+    writeln!(out, "     N {:.3e} deg/sqrt(h), {}", m.arw_deg_rth, colour_text(m))?;
     let (c, r) = (&d.cautious_model, &d.drift_model);
     writeln!(
         out,
-        "     temperature, encoder harmonics and amplitude judged under the most coloured plausible model: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
-        c.bias_instability_dph, c.rrw_dph_rth
+        "     temperature, encoder harmonics and amplitude judged under the most coloured plausible model: {}",
+        colour_text(c)
     )?;
     writeln!(
         out,
-        "     drift and jump judged under the model estimated with a drift: B {:.3e} deg/h, K {:.3e} deg/h/rt(h)",
-        r.bias_instability_dph, r.rrw_dph_rth
+        "     drift and jump judged under the model estimated with a drift: {}",
+        colour_text(r)
     )?;
     writeln!(
         out,

@@ -1,6 +1,6 @@
 //! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
 
-use super::noise_args::NoiseArgs;
+use super::noise_args::{NoiseArgs, colour_text};
 use super::{Fail, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_fit::NoiseChoice;
@@ -133,12 +133,11 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     writeln!(out, "noise model    {}", g.source.describe())?;
     writeln!(
         out,
-        "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean: {:.5} deg/h), B {:.3e} deg/h, K {:.3e} deg/h/sqrt(h); chi2 {:.1} on {} dof",
+        "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean: {:.5} deg/h), {}; chi2 {:.1} on {} dof",
         m.arw_deg_rth,
         g.dwell_s,
         m.white_mean_sd_dph(g.dwell_s),
-        m.bias_instability_dph,
-        m.rrw_dph_rth,
+        colour_text(m),
         g.chi2,
         g.dof
     )?;

@@ -101,3 +101,16 @@ impl NoiseArgs {
         file.chain(parts).collect::<Vec<_>>().join(" ")
     }
 }
+
+/// The coloured terms of `m` for the text output: flicker and walk, and a Gauss-Markov bias
+/// where it has one.
+pub fn colour_text(m: &NoiseModel) -> String {
+    let mut s = format!(
+        "B {:.3e} deg/h, K {:.3e} deg/h/sqrt(h)",
+        m.bias_instability_dph, m.rrw_dph_rth
+    );
+    if m.gm_sigma_dph > 0.0 {
+        s += &format!(", Gauss-Markov {:.3e} deg/h over {:.1} s", m.gm_sigma_dph, m.gm_tau_s);
+    }
+    s
+}

@@ -15,6 +15,7 @@ pub enum Kind {
     Outliers,
     BiasInstability,
     RateRandomWalk,
+    CorrelatedNoise,
     HeavyTails,
     Unexplained,
 }
@@ -47,6 +48,7 @@ impl Kind {
             Kind::Outliers => "outliers",
             Kind::BiasInstability => "bias_instability",
             Kind::RateRandomWalk => "rate_random_walk",
+            Kind::CorrelatedNoise => "correlated_noise",
             Kind::HeavyTails => "heavy_tails",
             Kind::Unexplained => "unexplained",
         }
@@ -54,7 +56,10 @@ impl Kind {
 
     /// A property of the gyro's noise: measured, used by every test, never a false alarm.
     pub fn is_noise(self) -> bool {
-        matches!(self, Kind::BiasInstability | Kind::RateRandomWalk | Kind::HeavyTails)
+        matches!(
+            self,
+            Kind::BiasInstability | Kind::RateRandomWalk | Kind::CorrelatedNoise | Kind::HeavyTails
+        )
     }
 }
 

@@ -1,5 +1,5 @@
-//! The recording's own noise, before any effect is tested: white noise, flicker (bias
-//! instability) and rate random walk estimated by REML (`crate::noise_est`) from the quarter
+//! The recording's own noise, before any effect is tested: white noise with flicker (bias
+//! instability) and rate random walk, or with a Gauss-Markov bias, estimated by REML (`crate::noise_est`) from the quarter
 //! means and the dwell means in time order. The REML design holds the effects that noise
 //! cannot make (temperature, harmonics 2-4 of the angle), so that they are not taken for
 //! noise. It does not hold a drift: over one run a drift and a rate random walk are the same
@@ -118,44 +118,19 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     .into_iter();
     let (e, with_drift) = (both.next().flatten(), both.next().flatten());
     let e = e.ok_or("the noise could not be estimated from the recording")?;
-    let mut terms = Vec::new();
-    let mut kept: Vec<fn(&NoiseModel) -> bool> = Vec::new();
-    for (kind, value, none) in [
-        (
-            Kind::BiasInstability,
-            e.best.model.bias_instability_dph,
-            no_flicker as fn(&NoiseModel) -> bool,
-        ),
-        (Kind::RateRandomWalk, e.best.model.rrw_dph_rth, no_random_walk),
-    ] {
-        let without = e
-            .grid
-            .iter()
-            .filter(|c| none(&c.model))
-            .map(|c| c.loglik)
-            .fold(f64::MIN, f64::max);
-        let lr = 2.0 * (e.best.loglik - without).max(0.0);
-        // A chi-square of 1 dof, not the boundary's half: the best is refined between grid
-        // points and the model without the term is not, which inflates the ratio.
-        let p = chi2_sf(lr, 1.0);
-        if value > 0.0 && p < alpha / 2.0 {
-            terms.push(NoiseTerm {
-                kind,
-                p,
-                parameters: allan_parameters(&e.best.model, &e.grid, e.best.loglik),
-            });
-        }
-        if p >= KEEP {
-            kept.push(none);
-        }
-    }
     // A colour the likelihood does not support is left out: the maximum-likelihood estimate
     // of white noise is coloured half the time, and would cost every test power for nothing.
-    let model = std::iter::once(&e.best)
-        .chain(&e.grid)
-        .filter(|c| kept.iter().all(|none| none(&c.model)))
-        .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
-        .map_or(e.best.model, |c| c.model);
+    let (chosen, tests) = supported(&e);
+    let model = chosen.model;
+    let terms = tests
+        .into_iter()
+        .filter(|&(_, p)| p < alpha / COLOURS.len() as f64)
+        .map(|(kind, p)| NoiseTerm {
+            kind,
+            p,
+            parameters: allan_parameters(&model, &e.grid, chosen.loglik),
+        })
+        .collect();
     let cautious_model = most_coloured(d, &e, model);
     // The most likely model with a drift in the design. Its upper bound would be too
     // cautious: beyond a curve, a modest random walk is hard to exclude.
@@ -202,7 +177,8 @@ fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
 /// The model within one sigma of the likelihood's best that wanders most over the run.
 fn most_coloured(d: &Data, e: &noise_est::Estimate, fallback: NoiseModel) -> NoiseModel {
     let span_h = 2.0 * d.half_span_s / 3600.0;
-    let wander = |m: &NoiseModel| m.bias_instability_dph.powi(2) + m.rrw_dph_rth.powi(2) * span_h / 3.0;
+    let wander =
+        |m: &NoiseModel| m.bias_instability_dph.powi(2) + m.rrw_dph_rth.powi(2) * span_h / 3.0 + m.gm_sigma_dph.powi(2);
     std::iter::once(&e.best)
         .chain(&e.grid)
         .filter(|c| c.loglik >= e.best.loglik - PLAUSIBLE)
@@ -227,6 +203,86 @@ fn with_bursts_held_out(d: &Data, cols: &[Vec<f64>], y: &[f64]) -> Vec<Vec<f64>>
     out
 }
 
+/// A colour term: its name, whether a model lacks it, and its parameters.
+struct Colour {
+    kind: Kind,
+    none: fn(&NoiseModel) -> bool,
+    dof: f64,
+}
+
+const COLOURS: [Colour; 3] = [
+    Colour {
+        kind: Kind::BiasInstability,
+        none: no_flicker,
+        dof: 1.0,
+    },
+    Colour {
+        kind: Kind::RateRandomWalk,
+        none: no_random_walk,
+        dof: 1.0,
+    },
+    // Its size and its time.
+    Colour {
+        kind: Kind::CorrelatedNoise,
+        none: no_gauss_markov,
+        dof: 2.0,
+    },
+];
+
+/// The model the likelihood supports. In each family of the estimate (flicker with random
+/// walk; a Gauss-Markov bias) a term goes when the likelihood ratio of the family's best
+/// against its best without the term has a p-value of at least [`KEEP`]: a chi-square of the
+/// term's parameters, not the boundary's half, as the best is refined between grid points
+/// and the model without the term is not, which inflates the ratio. Of the two families'
+/// reduced models the one with the better likelihood less its parameters (Akaike) is chosen:
+/// the families stand in for each other over a short run, so terms are tested within theirs.
+/// Returns the model and the p-values of the terms it has.
+fn supported(e: &noise_est::Estimate) -> (&Candidate, Vec<(Kind, f64)>) {
+    let all: Vec<&Candidate> = std::iter::once(&e.best).chain(&e.grid).collect();
+    let white = |m: &NoiseModel| COLOURS.iter().all(|t| (t.none)(m));
+    type Member = fn(&NoiseModel) -> bool;
+    let families: [(&[Colour], Member); 2] = [
+        (&COLOURS[..2], no_gauss_markov),
+        (&COLOURS[2..], |m| {
+            !no_gauss_markov(m) || COLOURS.iter().all(|t| (t.none)(m))
+        }),
+    ];
+    let best = |keep: &dyn Fn(&NoiseModel) -> bool| {
+        all.iter()
+            .copied()
+            .filter(|c| keep(&c.model))
+            .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
+    };
+    let mut choices = Vec::new();
+    for (terms, member) in families {
+        let Some(top) = best(&member) else { continue };
+        let tests: Vec<(&Colour, f64)> = terms
+            .iter()
+            .filter(|t| !(t.none)(&top.model))
+            .map(|t| {
+                let without = best(&|m| member(m) && (t.none)(m)).map_or(f64::MIN, |c| c.loglik);
+                (t, chi2_sf(2.0 * (top.loglik - without).max(0.0), t.dof))
+            })
+            .collect();
+        let dropped: Vec<&Colour> = tests.iter().filter(|(_, p)| *p >= KEEP).map(|(t, _)| *t).collect();
+        let Some(reduced) = best(&|m| member(m) && dropped.iter().all(|t| (t.none)(m))) else {
+            continue;
+        };
+        let params: f64 = terms.iter().filter(|t| !(t.none)(&reduced.model)).map(|t| t.dof).sum();
+        let kept = tests
+            .into_iter()
+            .filter(|(t, _)| !(t.none)(&reduced.model))
+            .map(|(t, p)| (t.kind, p))
+            .collect();
+        choices.push((reduced.loglik - params, reduced, kept));
+    }
+    let chosen = choices.into_iter().max_by(|a, b| a.0.total_cmp(&b.0));
+    chosen.map_or_else(
+        || (best(&white).unwrap_or(&e.best), Vec::new()),
+        |(_, c, kept)| (c, kept),
+    )
+}
+
 fn no_flicker(m: &NoiseModel) -> bool {
     m.bias_instability_dph == 0.0
 }
@@ -235,8 +291,13 @@ fn no_random_walk(m: &NoiseModel) -> bool {
     m.rrw_dph_rth == 0.0
 }
 
-/// N, B and K of the estimate, each with the range of the grid models within half a unit of
-/// log-likelihood of the best (a profile interval of about one sigma).
+fn no_gauss_markov(m: &NoiseModel) -> bool {
+    m.gm_sigma_dph == 0.0
+}
+
+/// N, B and K of the estimate (and a Gauss-Markov term's size and time where it has one),
+/// each with the range of the grid models within half a unit of log-likelihood of the best
+/// (a profile interval of about one sigma).
 fn allan_parameters(m: &NoiseModel, grid: &[Candidate], top: f64) -> Vec<Param> {
     let near: Vec<&NoiseModel> = grid
         .iter()
@@ -254,7 +315,12 @@ fn allan_parameters(m: &NoiseModel, grid: &[Candidate], top: f64) -> Vec<Param> 
             m.bias_instability_dph
         }),
         ("rrw_dph_rth", m.rrw_dph_rth, |m| m.rrw_dph_rth),
-    ] {
+        ("gm_sigma_dph", m.gm_sigma_dph, |m| m.gm_sigma_dph),
+        ("gm_tau_s", m.gm_tau_s, |m| m.gm_tau_s),
+    ]
+    .into_iter()
+    .filter(|(name, _, _)| m.gm_sigma_dph > 0.0 || !name.starts_with("gm_"))
+    {
         out.push(param(name, value, None));
         let lo = near.iter().map(|m| get(m)).fold(value, f64::min);
         let hi = near.iter().map(|m| get(m)).fold(value, f64::max);

@@ -81,7 +81,9 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
         Kind::HeavyTails => {
             return "heavy_tails: the twin's Student-t is per sample, and the means of a dwell's samples are Gaussian; not modelled".into();
         }
-        Kind::BiasInstability | Kind::RateRandomWalk | Kind::Unexplained => return String::new(),
+        Kind::BiasInstability | Kind::RateRandomWalk | Kind::CorrelatedNoise | Kind::Unexplained => {
+            return String::new();
+        }
     }
     format!(
         "{}: {}",
@@ -249,7 +251,7 @@ pub fn moments(
     let mut notes = Vec::new();
     let noise_named = physics
         .iter()
-        .any(|p| matches!(p.kind, Kind::BiasInstability | Kind::RateRandomWalk) && p.verdict != Verdict::Modelled);
+        .any(|p| p.kind.is_noise() && p.kind != Kind::HeavyTails && p.verdict != Verdict::Modelled);
     if noise_named || cmp.any(is_noise) {
         let tails = f.noise.student_t_dof;
         f.noise = Noise::of(&noise_of(diag));

@@ -109,6 +109,7 @@ fn simulated(
         }
         Kind::BiasInstability => ("bias_instability_dph", file.noise.bias_instability_dph),
         Kind::RateRandomWalk => ("rrw_dph_rth", file.noise.rrw_dph_rth),
+        Kind::CorrelatedNoise => ("gm_sigma_dph", file.noise.gm_sigma_dph),
         Kind::HeavyTails => ("student_t_dof", file.noise.student_t_dof),
         Kind::Unexplained => return None,
     })
@@ -150,16 +151,17 @@ fn noise_term(kind: Kind, diag: &Diagnosis, f: &Finding) -> Option<Vec<Param>> {
     let v = match kind {
         Kind::BiasInstability => m.bias_instability_dph,
         Kind::RateRandomWalk => m.rrw_dph_rth,
+        Kind::CorrelatedNoise => m.gm_sigma_dph,
         _ => return Some(f.parameters.clone()),
     };
     if m == diag.noise_model {
         return Some(f.parameters.clone());
     }
     // The finding's profile range belongs to the other model: a factor of two instead.
-    let name = if kind == Kind::BiasInstability {
-        "bias_instability_dph"
-    } else {
-        "rrw_dph_rth"
+    let name = match kind {
+        Kind::BiasInstability => "bias_instability_dph",
+        Kind::CorrelatedNoise => "gm_sigma_dph",
+        _ => "rrw_dph_rth",
     };
     (v > 0.0).then(|| {
         vec![
