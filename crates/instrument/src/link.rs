@@ -122,14 +122,23 @@ impl LinkError {
             LinkError::NoListToExtend => "SET order+ continues a listed order; set one first",
         }
     }
+
+    /// The message with an order's details, through `write_str` alone (no `core::fmt` on the
+    /// MCU).
+    pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
+        match self {
+            LinkError::Order(e) => {
+                w.write_str("order: ")?;
+                e.write_message(w)
+            }
+            e => w.write_str(e.message()),
+        }
+    }
 }
 
 impl core::fmt::Display for LinkError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            LinkError::Order(e) => write!(f, "order: {e}"),
-            e => f.write_str(e.message()),
-        }
+        self.write_message(f)
     }
 }
 

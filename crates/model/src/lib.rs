@@ -20,6 +20,7 @@ pub mod order;
 pub mod paper;
 pub mod rng;
 pub mod running;
+pub mod text;
 pub mod uncertainty;
 
 pub use num_traits::Float;

@@ -55,24 +55,46 @@ pub enum OrderError {
     OddPositions,
 }
 
+impl OrderError {
+    /// What is wrong, for a person; through `write_str` alone (no `core::fmt` on the MCU).
+    pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
+        let num = |w: &mut W, v: u16| crate::text::write_u64(w, v as u64);
+        match *self {
+            OrderError::Unknown => {
+                w.write_str("not one of")?;
+                for n in NAMES {
+                    w.write_char(' ')?;
+                    w.write_str(n)?;
+                }
+                w.write_str(" and not a list of position numbers")
+            }
+            OrderError::BadEntry { at } => {
+                w.write_str("entry ")?;
+                num(w, at)?;
+                w.write_str(" of the list is not a position number")
+            }
+            OrderError::TooLong => {
+                w.write_str("a listed order holds at most ")?;
+                num(w, MAX_VISITS as u16)?;
+                w.write_str(" visits")
+            }
+            OrderError::OutOfRange { at, position, n } => {
+                w.write_str("entry ")?;
+                num(w, at)?;
+                w.write_str(" of the list, position ")?;
+                num(w, position)?;
+                w.write_str(", is not below n = ")?;
+                num(w, n)
+            }
+            OrderError::Empty => w.write_str("the listed order is empty"),
+            OrderError::OddPositions => w.write_str("opposite pairs need an even number of positions"),
+        }
+    }
+}
+
 impl core::fmt::Display for OrderError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            OrderError::Unknown => {
-                f.write_str("not one of")?;
-                for n in NAMES {
-                    write!(f, " {n}")?;
-                }
-                f.write_str(" and not a list of position numbers")
-            }
-            OrderError::BadEntry { at } => write!(f, "entry {at} of the list is not a position number"),
-            OrderError::TooLong => write!(f, "a listed order holds at most {MAX_VISITS} visits"),
-            OrderError::OutOfRange { at, position, n } => {
-                write!(f, "entry {at} of the list, position {position}, is not below n = {n}")
-            }
-            OrderError::Empty => write!(f, "the listed order is empty"),
-            OrderError::OddPositions => write!(f, "opposite pairs need an even number of positions"),
-        }
+        self.write_message(f)
     }
 }
 
@@ -292,6 +314,33 @@ mod tests {
             let inter = drift_coupling(&Order::Interleaved, n);
             assert!((0.4..0.6).contains(&inter), "n = {n}: {inter}");
         }
+    }
+
+    #[test]
+    fn every_error_says_what_is_wrong() {
+        let says = |e: OrderError| std::format!("{e}");
+        assert_eq!(
+            says(OrderError::Unknown),
+            "not one of sequential forward-back opposite-pairs alternating-pairs interleaved and not a list of position numbers"
+        );
+        assert_eq!(
+            says(OrderError::BadEntry { at: 2 }),
+            "entry 2 of the list is not a position number"
+        );
+        assert_eq!(says(OrderError::TooLong), "a listed order holds at most 256 visits");
+        assert_eq!(
+            says(OrderError::OutOfRange {
+                at: 3,
+                position: 400,
+                n: 72
+            }),
+            "entry 3 of the list, position 400, is not below n = 72"
+        );
+        assert_eq!(says(OrderError::Empty), "the listed order is empty");
+        assert_eq!(
+            says(OrderError::OddPositions),
+            "opposite pairs need an even number of positions"
+        );
     }
 
     #[test]
