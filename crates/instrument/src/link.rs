@@ -18,6 +18,7 @@
 
 use crate::decimal::{self, DecimalError};
 use crate::run::{RunConfig, TiltPolicy};
+use nf_model::dwell::Calibration;
 use nf_model::order::{Order, OrderError, VisitList};
 
 /// Decimals of the latitude and the tilt limit: micro-degrees.
@@ -27,9 +28,9 @@ pub const TARGET_DECIMALS: u32 = 6;
 /// Decimals of the noise terms: 1e-9 of their units.
 pub const NOISE_DECIMALS: u32 = 9;
 /// Decimals of `cal_zero`: micro-counts.
-pub const CAL_ZERO_DECIMALS: u32 = 6;
+pub const CAL_ZERO_DECIMALS: u32 = Calibration::ZERO_DECIMALS;
 /// Decimals of `cal_scale`: 1e-15 deg/h per count.
-pub const CAL_SCALE_DECIMALS: u32 = 15;
+pub const CAL_SCALE_DECIMALS: u32 = Calibration::SCALE_DECIMALS;
 
 /// A setting the host can change; values as the line gives them, in fixed point (the
 /// `*_DECIMALS` constants); [`apply`] converts them.
@@ -153,8 +154,8 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
         Setting::TiltRefuse(r) => cfg.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
         Setting::Order(o) => cfg.order = o,
         Setting::TargetUarcsec(v) => cfg.target_arcsec = decimal::to_f32(v, TARGET_DECIMALS),
-        Setting::CalZero(v) => cfg.calibration.zero_counts = decimal::to_f64(v, CAL_ZERO_DECIMALS),
-        Setting::CalScale(v) => cfg.calibration.dph_per_count = decimal::to_f64(v, CAL_SCALE_DECIMALS),
+        Setting::CalZero(v) => cfg.calibration.zero_micro_counts = v,
+        Setting::CalScale(v) => cfg.calibration.femto_dph_per_count = v,
         Setting::Noise(term, v) => {
             let m = &mut cfg.noise;
             *match term {
@@ -226,11 +227,11 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
                 _ => return Err(LinkError::BadValue),
             }
         } else if k("cal_zero") {
-            const MAX: i64 = 8_388_608_000_000;
+            const MAX: i64 = Calibration::MAX_ZERO_MICRO_COUNTS;
             Setting::CalZero(fixed(val, CAL_ZERO_DECIMALS, -MAX, MAX)?)
         } else if k("cal_scale") {
             // Not zero: 1e-15 deg/h per count and more, up to 1 deg/h per count either way.
-            const MAX: i64 = 1_000_000_000_000_000;
+            const MAX: i64 = Calibration::MAX_FEMTO_DPH_PER_COUNT;
             match fixed(val, CAL_SCALE_DECIMALS, -MAX, MAX)? {
                 0 => return Err(LinkError::OutOfRange),
                 v => Setting::CalScale(v),

@@ -431,20 +431,22 @@ where
         if missed > 0 {
             warn!("dwell {}: {} samples missed (the queue overran)", index, missed);
         }
-        let st = acc.stats();
         let cal = cfg.calibration;
         let angle = (target as f64 + enc_sum as f64 / enc_n as f64) * 360.0 / self.per_turn as f64;
         Ok(Record {
             index,
             t_s: t_mid as f64 * 1e-6,
             encoder_deg: nf_model::angle::wrap_360(angle),
-            rate_dph: cal.rate_dph(st.mean),
-            rate_sd_dph: cal.sd_dph(st.sd),
-            samples: st.samples,
+            rate_dph: cal.rate_dph(acc.sum(), acc.samples()) as f64,
+            rate_sd_dph: cal.sd_dph(nf_model::sqrt(acc.variance())) as f64,
+            samples: acc.samples(),
             temp_c: temp,
             tilt_x_deg: tilt.0,
             tilt_y_deg: tilt.1,
-            quarters_dph: st.quarters.map(|q| cal.rate_dph(q)),
+            quarters_dph: [0, 1, 2, 3].map(|q| {
+                let (sum, n) = acc.quarter(q);
+                cal.rate_dph(sum, n) as f64
+            }),
             missed,
         })
     }

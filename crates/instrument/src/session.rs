@@ -6,6 +6,7 @@ use crate::record::{MAX_LINE, write_fixed};
 use crate::run::{RunConfig, RunReport, TiltPolicy};
 use core::fmt::Write;
 use heapless::{String, Vec};
+use nf_model::dwell::Calibration;
 use nf_model::text;
 
 /// Longest command line; a longer one is discarded up to its newline.
@@ -235,9 +236,12 @@ impl Session {
         }
         let mut c = ReplyLine::new();
         let _ = c.push_str("CONFIG cal zero_counts ");
-        let _ = write_fixed(&mut c, self.cfg.calibration.zero_counts, 1);
+        let cal = self.cfg.calibration;
+        let zero = text::round_units(cal.zero_micro_counts, Calibration::ZERO_DECIMALS, 1);
+        let _ = text::write_units(&mut c, zero, 1);
         let _ = c.push_str(" dph_per_count ");
-        let _ = write_fixed(&mut c, self.cfg.calibration.dph_per_count, 12);
+        let scale = text::round_units(cal.femto_dph_per_count, Calibration::SCALE_DECIMALS, 12);
+        let _ = text::write_units(&mut c, scale, 12);
         let mut r = Reply::new();
         let _ = r.push(a);
         let _ = r.push(b);

@@ -8,7 +8,7 @@ use nf_model::noise::NoiseModel;
 use nf_model::order::{MAX_VISITS, Order, VisitList};
 
 /// Format of the record; a record of another version is not read.
-pub const VERSION: u8 = 1;
+pub const VERSION: u8 = 2;
 /// The longest record: the fixed fields and a full listed order.
 pub const MAX_BYTES: usize = 128 + 2 * MAX_VISITS;
 
@@ -64,9 +64,10 @@ pub fn encode(cfg: &RunConfig, out: &mut [u8; MAX_BYTES]) -> usize {
         m.gm_tau_s,
         m.quantization_arcsec,
         m.student_t_dof,
-        cfg.calibration.zero_counts,
-        cfg.calibration.dph_per_count,
     ] {
+        w.put(&v.to_le_bytes());
+    }
+    for v in [cfg.calibration.zero_micro_counts, cfg.calibration.femto_dph_per_count] {
         w.put(&v.to_le_bytes());
     }
     w.at
@@ -103,8 +104,8 @@ pub fn decode(bytes: &[u8]) -> Result<RunConfig, SettingsError> {
         student_t_dof: r.f64()?,
     };
     let calibration = Calibration {
-        zero_counts: r.f64()?,
-        dph_per_count: r.f64()?,
+        zero_micro_counts: r.i64()?,
+        femto_dph_per_count: r.i64()?,
     };
     if r.at != bytes.len() {
         return Err(SettingsError::Length);
@@ -146,11 +147,7 @@ fn check(c: &RunConfig) -> Result<(), SettingsError> {
     within(c.position_tol_deg > 0.0 && c.position_tol_deg < 1.0, "position_tol")?;
     within((0.0..=36_000.0).contains(&c.target_arcsec), "target_arcsec")?;
     within(c.noise.validate().is_ok(), "noise model")?;
-    let cal = c.calibration;
-    within(
-        cal.zero_counts.is_finite() && cal.dph_per_count.is_finite() && cal.dph_per_count != 0.0,
-        "cal",
-    )
+    within(c.calibration.is_valid(), "cal")
 }
 
 struct Writer<'a> {
@@ -191,6 +188,9 @@ impl Reader<'_> {
     fn f64(&mut self) -> Result<f64, SettingsError> {
         self.take().map(f64::from_le_bytes)
     }
+    fn i64(&mut self) -> Result<i64, SettingsError> {
+        self.take().map(i64::from_le_bytes)
+    }
 }
 
 #[cfg(test)]
@@ -211,7 +211,7 @@ mod tests {
             ..RunConfig::DEFAULT
         };
         cfg.noise.bias_instability_dph = 0.004;
-        cfg.calibration.zero_counts = -1234.5;
+        cfg.calibration.zero_micro_counts = -1_234_500_000;
         let mut buf = [0; MAX_BYTES];
         let n = encode(&cfg, &mut buf);
         assert_eq!(decode(&buf[..n]), Ok(cfg));
@@ -230,9 +230,10 @@ mod tests {
         let mut buf = [0; MAX_BYTES];
         let n = encode(&RunConfig::DEFAULT, &mut buf);
         assert_eq!(decode(&buf[..n - 1]), Err(SettingsError::Length));
-        let mut v2 = buf;
-        v2[0] = 2;
-        assert_eq!(decode(&v2[..n]), Err(SettingsError::Version(2)));
+        // Version 1 kept the calibration in f64.
+        let mut v1 = buf;
+        v1[0] = 1;
+        assert_eq!(decode(&v1[..n]), Err(SettingsError::Version(1)));
         // n = 3 positions.
         let mut bad = buf;
         bad[1] = 3;
@@ -243,5 +244,9 @@ mod tests {
         };
         let n = encode(&lat, &mut buf);
         assert_eq!(decode(&buf[..n]), Err(SettingsError::Invalid("lat")));
+        let mut cal = RunConfig::DEFAULT;
+        cal.calibration.femto_dph_per_count = 0;
+        let n = encode(&cal, &mut buf);
+        assert_eq!(decode(&buf[..n]), Err(SettingsError::Invalid("cal")));
     }
 }
