@@ -2,7 +2,7 @@
 //! firmware feeds it the bytes of its USART; the host tests feed it scenario files.
 
 use crate::link::{self, Command};
-use crate::record::{MAX_LINE, write_fixed};
+use crate::record::MAX_LINE;
 use crate::run::{RunConfig, RunReport, TiltPolicy};
 use core::fmt::Write;
 use heapless::{String, Vec};
@@ -184,7 +184,7 @@ impl Session {
             }
             if let Some(u) = r.under_noise {
                 let _ = l.push_str(" under_noise_sigma_arcsec ");
-                let _ = write_fixed(&mut l, u.sigma_psi_deg * 3600.0, 2);
+                let _ = text::write_f32(&mut l, (u.sigma_psi_deg * 3600.0) as f32, 2);
             }
             if r.target_reached {
                 let _ = l.push_str(" target_reached");
@@ -232,7 +232,7 @@ impl Session {
             (" gm_tau ", m.gm_tau_s, 2),
         ] {
             let _ = b.push_str(key);
-            let _ = write_fixed(&mut b, v, decimals);
+            let _ = text::write_f32(&mut b, v as f32, decimals);
         }
         let mut c = ReplyLine::new();
         let _ = c.push_str("CONFIG cal zero_counts ");
