@@ -28,7 +28,7 @@ fn run(seed: u64, psi: f64, target_arcsec: f32, noise: NoiseModel) -> (RunReport
         positions: 72,
         order: Order::OppositePairs,
         dwell_ms: 1000,
-        noise,
+        noise: (&noise).into(),
         target_arcsec,
         tilt_policy: TiltPolicy::Warn,
         ..RunConfig::default()

@@ -9,7 +9,7 @@
 use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use nf_fuzz::link_print;
-use nf_instrument::decimal::{to_f32, to_f64};
+use nf_instrument::decimal::to_f32;
 use nf_instrument::link::{
     self, ANGLE_DECIMALS, Command, LinkError, NOISE_DECIMALS, NoiseTerm, Setting, TARGET_DECIMALS,
 };
@@ -133,7 +133,7 @@ fn model(cfg: &RunConfig, s: &Setting) -> Option<RunConfig> {
         Setting::CalZero(v) => c.calibration.zero_micro_counts = v,
         Setting::CalScale(v) => c.calibration.femto_dph_per_count = v,
         Setting::Noise(t, v) => {
-            let v = to_f64(v, NOISE_DECIMALS);
+            let v = to_f32(v, NOISE_DECIMALS);
             let m = &mut c.noise;
             match t {
                 NoiseTerm::Arw => m.arw_deg_rth = v,

@@ -164,7 +164,7 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
                 NoiseTerm::Rrw => &mut m.rrw_dph_rth,
                 NoiseTerm::GmSigma => &mut m.gm_sigma_dph,
                 NoiseTerm::GmTau => &mut m.gm_tau_s,
-            } = decimal::to_f64(v, NOISE_DECIMALS);
+            } = decimal::to_f32(v, NOISE_DECIMALS);
         }
         Setting::OrderMore(more) => match &mut cfg.order {
             Order::List(l) => {
@@ -350,7 +350,7 @@ mod tests {
                 m.gm_sigma_dph,
                 m.gm_tau_s
             ),
-            // Read in fixed point: the nearest f64 to each.
+            // Read in fixed point: the nearest f32 to each.
             (0.0012, 0.004, 0.3, 0.01, 60.0)
         );
         assert_eq!(cfg.target_arcsec, 18.0);

@@ -18,7 +18,8 @@ use embedded_io_async::{Read, Write};
 use nf_model::dwell::{Calibration, DwellAccumulator};
 use nf_model::fit::{AzimuthFit, FitConfig, FitError, FitResult, Obs, vertical_earth_rate_dph};
 use nf_model::level::{TiltReading, fit_tilt};
-use nf_model::noise::{NoiseError, NoiseModel};
+use nf_model::noise::NoiseError;
+use nf_model::noise_terms::NoiseTerms;
 use nf_model::order::{Order, OrderError};
 use nf_model::running::{Running, RunningGls};
 use nf_model::text;
@@ -94,7 +95,7 @@ pub struct RunConfig {
     pub tilt_correction: bool,
     /// The gyro's noise model for the running azimuth; with no angle random walk the white
     /// part of each dwell mean comes from its samples' spread.
-    pub noise: NoiseModel,
+    pub noise: NoiseTerms,
     /// End the run once the running sigma under the noise model is at most this, arcsec
     /// (0: visit every position).
     pub target_arcsec: f32,
@@ -121,7 +122,7 @@ impl RunConfig {
         position_tol_deg: 0.02,
         max_corrections: 3,
         tilt_correction: true,
-        noise: NoiseModel::WHITE_NONE,
+        noise: NoiseTerms::NONE,
         target_arcsec: 0.0,
         calibration: Calibration::DEFAULT,
     };

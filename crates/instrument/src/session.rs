@@ -232,7 +232,7 @@ impl Session {
             (" gm_tau ", m.gm_tau_s, 2),
         ] {
             let _ = b.push_str(key);
-            let _ = text::write_f32(&mut b, v as f32, decimals);
+            let _ = text::write_f32(&mut b, v, decimals);
         }
         let mut c = ReplyLine::new();
         let _ = c.push_str("CONFIG cal zero_counts ");

@@ -4,7 +4,7 @@
 
 use crate::run::{RunConfig, TiltPolicy};
 use nf_model::dwell::Calibration;
-use nf_model::noise::NoiseModel;
+use nf_model::noise_terms::NoiseTerms;
 use nf_model::order::{MAX_VISITS, Order, VisitList};
 
 /// Format of the record; a record of another version is not read.
@@ -63,7 +63,6 @@ pub fn encode(cfg: &RunConfig, out: &mut [u8; MAX_BYTES]) -> usize {
         m.gm_sigma_dph,
         m.gm_tau_s,
         m.quantization_arcsec,
-        m.student_t_dof,
     ] {
         w.put(&v.to_le_bytes());
     }
@@ -94,14 +93,13 @@ pub fn decode(bytes: &[u8]) -> Result<RunConfig, SettingsError> {
     let (dwell_ms, settle_ms, sample_rate_hz) = (r.u32()?, r.u32()?, r.u32()?);
     let (latitude_deg, tilt_limit_deg, position_tol_deg, target_arcsec) = (r.f32()?, r.f32()?, r.f32()?, r.f32()?);
     let (refuse, max_corrections, tilt_correction) = (r.u8()?, r.u8()?, r.u8()?);
-    let noise = NoiseModel {
-        arw_deg_rth: r.f64()?,
-        bias_instability_dph: r.f64()?,
-        rrw_dph_rth: r.f64()?,
-        gm_sigma_dph: r.f64()?,
-        gm_tau_s: r.f64()?,
-        quantization_arcsec: r.f64()?,
-        student_t_dof: r.f64()?,
+    let noise = NoiseTerms {
+        arw_deg_rth: r.f32()?,
+        bias_instability_dph: r.f32()?,
+        rrw_dph_rth: r.f32()?,
+        gm_sigma_dph: r.f32()?,
+        gm_tau_s: r.f32()?,
+        quantization_arcsec: r.f32()?,
     };
     let calibration = Calibration {
         zero_micro_counts: r.i64()?,
@@ -184,9 +182,6 @@ impl Reader<'_> {
     }
     fn f32(&mut self) -> Result<f32, SettingsError> {
         self.take().map(f32::from_le_bytes)
-    }
-    fn f64(&mut self) -> Result<f64, SettingsError> {
-        self.take().map(f64::from_le_bytes)
     }
     fn i64(&mut self) -> Result<i64, SettingsError> {
         self.take().map(i64::from_le_bytes)

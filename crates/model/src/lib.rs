@@ -16,6 +16,7 @@ pub mod exact;
 pub mod fit;
 pub mod level;
 pub mod noise;
+pub mod noise_terms;
 pub mod order;
 pub mod paper;
 pub mod rng;

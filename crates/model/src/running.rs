@@ -14,6 +14,7 @@
 use crate::EARTH_RATE_DPH;
 use crate::angle::{atan2_deg, sincos_deg};
 use crate::noise::NoiseModel;
+use crate::noise_terms::NoiseTerms;
 use num_traits::Float;
 
 /// Flicker members: two per decade from the dwell to [`FLICKER_TAU_MAX_S`].
@@ -65,8 +66,17 @@ pub struct Running {
 }
 
 impl RunningGls {
-    /// A filter for dwells of `dwell_s` under `model`.
-    pub fn new(model: &NoiseModel, dwell_s: f64) -> Result<Self, RunningError> {
+    /// A filter for dwells of `dwell_s` under the noise `terms`.
+    pub fn new(terms: &NoiseTerms, dwell_s: f64) -> Result<Self, RunningError> {
+        let model = &NoiseModel {
+            arw_deg_rth: terms.arw_deg_rth as f64,
+            bias_instability_dph: terms.bias_instability_dph as f64,
+            rrw_dph_rth: terms.rrw_dph_rth as f64,
+            gm_sigma_dph: terms.gm_sigma_dph as f64,
+            gm_tau_s: terms.gm_tau_s as f64,
+            quantization_arcsec: terms.quantization_arcsec as f64,
+            student_t_dof: 0.0,
+        };
         if model.validate().is_err() || !(dwell_s > 0.0 && dwell_s.is_finite()) {
             return Err(RunningError::BadModel);
         }
@@ -210,7 +220,7 @@ mod tests {
     }
 
     fn filter(model: &NoiseModel, dwell_s: f64, psi: f64, dwells: &[(f64, f64)]) -> Running {
-        let mut f = RunningGls::new(model, dwell_s).unwrap();
+        let mut f = RunningGls::new(&model.into(), dwell_s).unwrap();
         for &(g, t) in dwells {
             let rate = h() * (g + psi).to_radians().cos() + 3.0;
             f.add(g, t, rate, None).unwrap();
@@ -326,10 +336,13 @@ mod tests {
     #[test]
     fn bad_input_is_refused() {
         let m = NoiseModel::white(0.005, 2.0);
-        assert_eq!(RunningGls::new(&m, 0.0).unwrap_err(), RunningError::BadModel);
+        assert_eq!(RunningGls::new(&(&m).into(), 0.0).unwrap_err(), RunningError::BadModel);
         let bad = NoiseModel { gm_sigma_dph: 1.0, ..m };
-        assert_eq!(RunningGls::new(&bad, 2.0).unwrap_err(), RunningError::BadModel);
-        let mut f = RunningGls::new(&m, 2.0).unwrap();
+        assert_eq!(
+            RunningGls::new(&(&bad).into(), 2.0).unwrap_err(),
+            RunningError::BadModel
+        );
+        let mut f = RunningGls::new(&(&m).into(), 2.0).unwrap();
         assert_eq!(f.add(f64::NAN, 1.0, 1.0, None), Err(RunningError::NonFinite));
         assert_eq!(f.add(0.0, 1.0, 1.0, Some(-1.0)), Err(RunningError::NonFinite));
         f.add(0.0, 5.0, 1.0, None).unwrap();
