@@ -223,7 +223,7 @@ pub struct RunReport {
     /// The fit of the positions measured (all of them when the run finished).
     pub azimuth: Option<Azimuth>,
     /// The running azimuth under the noise model.
-    pub under_noise: Option<Running>,
+    pub under_noise: Option<Running<f32>>,
     /// The run ended early: the running sigma reached the target.
     pub target_reached: bool,
 }
@@ -461,17 +461,22 @@ where
     }
 
     /// Adds a dwell to the running azimuth under the noise model and logs it.
-    fn under_noise(&self, running: &mut RunningGls, rec: &Record) -> Result<Running, RunError> {
+    fn under_noise(&self, running: &mut RunningGls<f32>, rec: &Record) -> Result<Running<f32>, RunError> {
         let cfg = self.cfg;
-        let mut rate = rec.rate_dph as f64;
+        let mut rate = rec.rate_dph;
         if cfg.tilt_correction {
-            rate -= vertical_earth_rate_dph(cfg.latitude_deg, rec.tilt_x_deg) as f64;
+            rate -= vertical_earth_rate_dph(cfg.latitude_deg, rec.tilt_x_deg);
         }
-        // No white level given: the dwell's own samples show it.
-        let sd = rec.rate_sd_dph as f64;
-        let white = (cfg.noise.arw_deg_rth == 0.0).then(|| sd * sd / rec.samples.max(1) as f64);
-        let gamma = rec.encoder.deg() as f64;
-        running.add(gamma, rec.t_us as f64 * 1e-6, rate, white).map_err(|_| {
+        // No white level given: the dwell's own samples show it, and a sample carries at least
+        // the quantisation of one count (the spread of samples that are all one count is 0).
+        let white = (cfg.noise.arw_deg_rth == 0.0).then(|| {
+            let count = cfg.calibration.dph_per_count();
+            let (var, floor) = (rec.rate_sd_dph * rec.rate_sd_dph, count * count / 12.0);
+            // NaN (one sample) stays NaN: the dwell cannot be weighed.
+            let var = if var < floor { floor } else { var };
+            var / rec.samples.max(1) as f32
+        });
+        running.add(rec.encoder.deg(), rec.t_us, rate, white).map_err(|_| {
             self.err(Fault::Fit(FitError::NonFinite {
                 index: rec.index as u32,
             }))
@@ -573,7 +578,7 @@ where
     }
     let checked = cfg.order.check(cfg.positions).map_err(Fault::Order).and_then(|()| {
         cfg.noise.validate().map_err(Fault::Noise)?;
-        RunningGls::new(&cfg.noise, cfg.dwell_ms as f64 / 1000.0).map_err(|_| Fault::BadConfig)
+        RunningGls::new(&cfg.noise, cfg.dwell_ms as f32 / 1000.0).map_err(|_| Fault::BadConfig)
     });
     let mut running = match checked {
         Ok(r) => r,
@@ -632,7 +637,7 @@ where
             let r = ctx.under_noise(&mut running, &rec)?;
             report.under_noise = Some(r);
             let sigma_arcsec = r.sigma_psi_deg * 3600.0;
-            if cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec as f64 {
+            if cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec {
                 info!(
                     "target {} arcsec reached after {} of {} dwells: sigma {} arcsec under the noise model",
                     cfg.target_arcsec,

@@ -184,7 +184,7 @@ impl Session {
             }
             if let Some(u) = r.under_noise {
                 let _ = l.push_str(" under_noise_sigma_arcsec ");
-                let _ = text::write_f32(&mut l, (u.sigma_psi_deg * 3600.0) as f32, 2);
+                let _ = text::write_f32(&mut l, u.sigma_psi_deg * 3600.0, 2);
             }
             if r.target_reached {
                 let _ = l.push_str(" target_reached");
