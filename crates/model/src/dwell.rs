@@ -50,13 +50,15 @@ impl DwellAccumulator {
     }
 
     /// The sample variance, counts^2 (NaN with fewer than two samples): from the exact
-    /// `n sum(x^2) - sum(x)^2`, rounded once to `f32` and divided.
+    /// `n sum(x^2) - sum(x)^2`, rounded to `f32` and divided.
     pub fn variance(&self) -> f32 {
         if self.n < 2 {
             return f32::NAN;
         }
-        let num = self.n as i128 * self.sumsq - (self.sum as i128) * (self.sum as i128);
-        num as f32 / (self.n as f32 * (self.n - 1) as f32)
+        let num = (self.n as i128 * self.sumsq - (self.sum as i128) * (self.sum as i128)) as u128;
+        // Not negative; through two u64 halves: the MCU then needs no 128-bit float conversion.
+        let num = (num >> 64) as u64 as f32 * 18_446_744_073_709_551_616.0 + num as u64 as f32;
+        num / (self.n as f32 * (self.n - 1) as f32)
     }
 }
 
