@@ -181,8 +181,12 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
     Ok(())
 }
 
-fn num<T: core::str::FromStr>(v: &str) -> Result<T, LinkError> {
-    v.parse().map_err(|_| LinkError::BadValue)
+/// A whole number (`[+-]digits`) within `lo..=hi`.
+fn whole<T: TryFrom<i64>>(v: &str, lo: i64, hi: i64) -> Result<T, LinkError> {
+    if v.contains('.') {
+        return Err(LinkError::BadValue);
+    }
+    T::try_from(fixed(v, 0, lo, hi)?).map_err(|_| LinkError::OutOfRange)
 }
 
 /// A decimal in units of `10^-decimals`, within `lo..=hi` units.
@@ -211,11 +215,11 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
         let val = words.next().ok_or(LinkError::MissingValue)?;
         let k = |s: &str| key.eq_ignore_ascii_case(s);
         let s = if k("n") {
-            Setting::Positions(check(num(val)?, 4, 720)?)
+            Setting::Positions(whole(val, 4, 720)?)
         } else if k("dwell_ms") {
-            Setting::DwellMs(check(num(val)?, 10, 600_000)?)
+            Setting::DwellMs(whole(val, 10, 600_000)?)
         } else if k("settle_ms") {
-            Setting::SettleMs(check(num(val)?, 0, 60_000)?)
+            Setting::SettleMs(whole(val, 0, 60_000)?)
         } else if k("lat") {
             Setting::LatitudeUdeg(fixed(val, ANGLE_DECIMALS, -89_000_000, 89_000_000)?)
         } else if k("tilt_limit") {
@@ -303,6 +307,12 @@ mod tests {
         assert_eq!(parse("SET x 1"), Err(LinkError::UnknownKey));
         assert_eq!(parse("SET n seventy"), Err(LinkError::BadValue));
         assert_eq!(parse("SET n 3"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET n 70000"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET n -8"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET n 72.0"), Err(LinkError::BadValue));
+        assert_eq!(parse("SET n +72"), Ok(Command::Set(Setting::Positions(72))));
+        assert_eq!(parse("SET dwell_ms 99999999999999999999"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET settle_ms 1e3"), Err(LinkError::BadValue));
         assert_eq!(parse("SET lat 91"), Err(LinkError::OutOfRange));
         assert_eq!(parse("SET lat 89.0000005"), Err(LinkError::OutOfRange));
         assert_eq!(parse("SET lat 1e1"), Err(LinkError::BadValue));

@@ -98,6 +98,18 @@ impl core::fmt::Display for OrderError {
     }
 }
 
+/// A position number as `u16`'s `FromStr` reads it (`[+]digits`), without that code on the MCU.
+fn position_number(word: &[u8]) -> Option<u16> {
+    let digits = word.strip_prefix(b"+").unwrap_or(word);
+    if digits.is_empty() {
+        return None;
+    }
+    digits.iter().try_fold(0u16, |v, &b| {
+        let d = (b as char).to_digit(10)?;
+        v.checked_mul(10)?.checked_add(d as u16)
+    })
+}
+
 /// The names [`Order::parse`] takes, in the order of [`Order::NAMED`].
 pub const NAMES: [&str; 5] = [
     "sequential",
@@ -243,7 +255,7 @@ impl VisitList {
     pub fn extend(&mut self, csv: &str) -> Result<(), OrderError> {
         for word in csv.split(',') {
             let at = self.len;
-            let p = word.trim_ascii().parse().map_err(|_| OrderError::BadEntry { at })?;
+            let p = position_number(word.trim_ascii().as_bytes()).ok_or(OrderError::BadEntry { at })?;
             self.push(p)?;
         }
         Ok(())
@@ -317,6 +329,22 @@ mod tests {
     }
 
     #[test]
+    fn position_numbers_read_as_u16_reads_them() {
+        let mut rng = crate::rng::Rng::new(4);
+        let alphabet = b"0123456789+- .x";
+        for _ in 0..100_000 {
+            let len = (rng.next_u64() % 8) as usize;
+            let word: std::vec::Vec<u8> = (0..len)
+                .map(|_| alphabet[(rng.next_u64() % alphabet.len() as u64) as usize])
+                .collect();
+            let text = core::str::from_utf8(&word).unwrap();
+            assert_eq!(position_number(&word), text.parse::<u16>().ok(), "{text:?}");
+        }
+        assert_eq!(position_number(b"65535"), Some(65535));
+        assert_eq!(position_number(b"0000000000012"), Some(12));
+    }
+
+    #[test]
     fn every_error_says_what_is_wrong() {
         let says = |e: OrderError| std::format!("{e}");
         assert_eq!(
@@ -374,6 +402,14 @@ mod tests {
         assert_eq!(Order::parse("spiral"), Err(OrderError::Unknown));
         assert_eq!(Order::parse("0,1,x"), Err(OrderError::BadEntry { at: 2 }));
         assert_eq!(Order::parse("0,,1"), Err(OrderError::BadEntry { at: 1 }));
+        assert_eq!(Order::parse("0,+1, 2 ,65535"), Order::parse("0,1,2,65535"));
+        for bad in ["65536", "-0", "1.0", "+", "++1", "1+", "0x1", "1_0", "\u{661}"] {
+            assert_eq!(
+                Order::parse(&std::format!("0,{bad}")),
+                Err(OrderError::BadEntry { at: 1 }),
+                "{bad}"
+            );
+        }
         let mut l = VisitList::EMPTY;
         for _ in 0..MAX_VISITS {
             l.push(1).unwrap();
