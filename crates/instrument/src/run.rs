@@ -307,7 +307,8 @@ where
     /// Moves to `target` counts, closing the loop on the encoder; returns where it stopped.
     async fn move_to(&mut self, target: i64) -> Result<i64, RunError> {
         let spr = self.hw.motor.steps_per_rev() as i64;
-        let tol = (self.cfg.position_tol_deg / 360.0 * self.per_turn as f32) as i64;
+        // Under 1 deg (the settings' range) of at most 2^32 counts: an i32.
+        let tol = (self.cfg.position_tol_deg / 360.0 * self.per_turn as f32) as i32 as i64;
         let mut cur = self.encoder().await?;
         for attempt in 0..=self.cfg.max_corrections {
             let err = wrap_counts(target - cur, self.per_turn);
