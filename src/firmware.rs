@@ -38,7 +38,7 @@ use nf_instrument::settings_store::{SettingsStore, StoreError};
 use nf_instrument::step_train::TimedStepDir;
 use nf_instrument::stepper;
 use static_cell::ConstStaticCell;
-use {defmt_rtt as _, panic_probe as _};
+use {defmt_rtt as _, nf_mem as _, panic_probe as _};
 
 // Every log line carries the time since boot.
 defmt::timestamp!("{=u64:us}", Instant::now().as_micros());

@@ -15,6 +15,7 @@ mod synthetic;
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
+use nf_mem as _;
 use nf_model::fit::{AzimuthFit, FitConfig};
 
 #[entry]
