@@ -88,7 +88,7 @@ fn of<F: Float>(x: f32) -> F {
 }
 
 /// Rotates rows `a` and `b` from column `from` on so that `b[from]` becomes zero (a Givens
-/// rotation: lengths kept, nothing squared that could overflow).
+/// rotation: lengths kept; `hypot` rescales where the squares would leave the float's range).
 fn rotate<F: Float>(a: &mut [F], b: &mut [F], from: usize) {
     let (x, y) = (a[from], b[from]);
     if y == F::zero() {
