@@ -34,11 +34,11 @@ use nf_instrument::record::MAX_LINE;
 use nf_instrument::run::{self, GyroSource, Instrument, RunConfig, Sink};
 use nf_instrument::session::{Action, LineAssembler, Session};
 use nf_instrument::settings;
-use nf_instrument::settings_store::SettingsStore;
+use nf_instrument::settings_store::{SettingsStore, StoreError};
 use nf_instrument::step_train::TimedStepDir;
 use nf_instrument::stepper;
 use static_cell::ConstStaticCell;
-use {defmt_rtt as _, panic_probe as _};
+use {defmt_rtt as _, nf_mem as _, panic_probe as _};
 
 // Every log line carries the time since boot.
 defmt::timestamp!("{=u64:us}", Instant::now().as_micros());
@@ -242,19 +242,24 @@ async fn settings_task(mut store: Store) {
         let mut record = [0; settings::MAX_BYTES];
         let n = settings::encode(&SAVE.receive().await, &mut record);
         let ok = store.save_encoded(&record[..n]).await;
-        let mut l = Line::new();
-        match ok {
-            Ok(()) => {
-                info!("settings: saved");
-                let _ = l.push_str("OK");
-            }
-            Err(e) => {
-                error!("settings: not saved: {:?}", e);
-                let _ = l.push_str("ERR settings not saved: flash error");
-            }
-        }
-        TX.send(l).await;
+        TX.send(save_reply(ok)).await;
     }
+}
+
+/// The answer to SAVE.
+fn save_reply(ok: Result<(), StoreError>) -> Line {
+    let mut l = Line::new();
+    match ok {
+        Ok(()) => {
+            info!("settings: saved");
+            let _ = l.push_str("OK");
+        }
+        Err(e) => {
+            error!("settings: not saved: {:?}", e);
+            let _ = l.push_str("ERR settings not saved: flash error");
+        }
+    }
+    l
 }
 
 /// The saved settings, or the defaults when there are none or they cannot be read.

@@ -28,7 +28,7 @@ fn run(seed: u64, psi: f64, target_arcsec: f32, noise: NoiseModel) -> (RunReport
         positions: 72,
         order: Order::OppositePairs,
         dwell_ms: 1000,
-        noise,
+        noise: (&noise).into(),
         target_arcsec,
         tilt_policy: TiltPolicy::Warn,
         ..RunConfig::default()
@@ -56,7 +56,7 @@ fn the_run_ends_at_the_target_with_an_honest_sigma() {
         // Nothing measured is lost: every dwell is in the recording.
         assert_eq!((rows, report.positions as u32), (u.dwells as usize, u.dwells));
         assert!(u.dwells < 72, "{u:?}");
-        z2 += (wrap_180(u.psi_deg - psi) / u.sigma_psi_deg).powi(2);
+        z2 += (wrap_180(u.psi_deg as f64 - psi) / u.sigma_psi_deg as f64).powi(2);
         dwells += u.dwells;
     }
     let rms_z = (z2 / runs as f64).sqrt();
@@ -82,7 +82,7 @@ fn a_white_level_from_the_samples_alone_gives_the_least_squares_sigma() {
     // No noise model given: the firmware takes each dwell's white level from its samples.
     let (report, _) = run(2, 30.0, 0.0, NoiseModel::WHITE_NONE);
     let (u, ls) = (report.under_noise.unwrap(), report.azimuth.unwrap());
-    let ratio = u.sigma_psi_deg * 3600.0 / ls.sigma_arcsec.unwrap() as f64;
+    let ratio = u.sigma_psi_deg * 3600.0 / ls.sigma_arcsec.unwrap();
     assert!((0.6..1.6).contains(&ratio), "{ratio}");
 }
 

@@ -113,6 +113,12 @@ fn fit_and_run_on_the_emulated_mcu_match_the_host() {
     let d_sigma = number(&run, "sigma_arcsec") - az.sigma_arcsec.unwrap() as f64;
     println!("run: QEMU - host: psi {d_psi:+.4} arcsec, sigma {d_sigma:+.4} arcsec");
     assert!(d_psi.abs() <= TOLERANCE_ARCSEC && d_sigma.abs() <= TOLERANCE_ARCSEC);
+    // The running azimuth under the noise model (the f32 square-root information filter).
+    let noise = report.under_noise.unwrap();
+    let d_psi = diff_arcsec(number(&run, "noise_psi_deg"), noise.psi_deg as f64);
+    let d_sigma = number(&run, "noise_sigma_arcsec") - noise.sigma_psi_deg as f64 * 3600.0;
+    println!("run under the noise model: QEMU - host: psi {d_psi:+.4} arcsec, sigma {d_sigma:+.4} arcsec");
+    assert!(d_psi.abs() <= TOLERANCE_ARCSEC && d_sigma.abs() <= TOLERANCE_ARCSEC);
     assert_eq!(number(&run, "positions"), report.positions as f64);
     assert_eq!(number(&run, "lines"), lines as f64);
 }

@@ -9,10 +9,9 @@
 use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use nf_fuzz::link_print;
-use nf_instrument::decimal::{to_f32, to_f64};
+use nf_instrument::decimal::to_f32;
 use nf_instrument::link::{
-    self, ANGLE_DECIMALS, CAL_SCALE_DECIMALS, CAL_ZERO_DECIMALS, Command, LinkError, NOISE_DECIMALS, NoiseTerm,
-    Setting, TARGET_DECIMALS,
+    self, ANGLE_DECIMALS, Command, LinkError, NOISE_DECIMALS, NoiseTerm, Setting, TARGET_DECIMALS,
 };
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::order::{MAX_VISITS, Order, VisitList};
@@ -131,10 +130,10 @@ fn model(cfg: &RunConfig, s: &Setting) -> Option<RunConfig> {
         Setting::TiltRefuse(r) => c.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
         Setting::Order(o) => c.order = o,
         Setting::TargetUarcsec(v) => c.target_arcsec = to_f32(v, TARGET_DECIMALS),
-        Setting::CalZero(v) => c.calibration.zero_counts = to_f64(v, CAL_ZERO_DECIMALS),
-        Setting::CalScale(v) => c.calibration.dph_per_count = to_f64(v, CAL_SCALE_DECIMALS),
+        Setting::CalZero(v) => c.calibration.zero_micro_counts = v,
+        Setting::CalScale(v) => c.calibration.femto_dph_per_count = v,
         Setting::Noise(t, v) => {
-            let v = to_f64(v, NOISE_DECIMALS);
+            let v = to_f32(v, NOISE_DECIMALS);
             let m = &mut c.noise;
             match t {
                 NoiseTerm::Arw => m.arw_deg_rth = v,

@@ -8,14 +8,17 @@
 use arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use nf_fuzz::close;
+use nf_instrument::encoder_angle::EncoderAngle;
 use nf_instrument::record::{self, HEADER, MAX_LINE, Record};
 use nf_model::dwell::Calibration;
+use nf_model::text;
+use std::fmt::Write;
 
-/// A count of ADC codes as a dwell's mean would be: within the 24-bit range, any fraction.
-fn counts(u: &mut Unstructured) -> Result<f64> {
+/// A dwell's rate as the run computes it: a sum of 24-bit counts over any number of samples.
+fn rate(u: &mut Unstructured, cal: &Calibration) -> Result<f32> {
     let n: u32 = u.int_in_range(1..=4000)?;
     let sum: i64 = u.int_in_range(-(1i64 << 23) * n as i64..=((1i64 << 23) - 1) * n as i64)?;
-    Ok(sum as f64 / n as f64)
+    Ok(cal.rate_dph(sum, n))
 }
 
 /// A reading from a device: usually in range, sometimes anything an f32 holds.
@@ -27,31 +30,27 @@ fn reading(u: &mut Unstructured, range: f32) -> Result<f32> {
     })
 }
 
-fn record(u: &mut Unstructured, index: u16) -> Result<Record> {
+/// A record and the exact angle (deg) of the counts it came from.
+fn record(u: &mut Unstructured, index: u16) -> Result<(Record, f64)> {
     let cal = Calibration::DEFAULT;
     // The run's angle: the commanded count plus the mean encoder error, over 2^bits a turn.
     let bits: u32 = u.int_in_range(8..=32)?;
     let per_turn = 1u64 << bits;
-    let target = u.int_in_range(0..=per_turn - 1)? as f64;
+    let target = u.int_in_range(0..=per_turn - 1)? as i64;
     let enc_n: i64 = u.int_in_range(1..=20)?;
     let enc_sum: i64 = u.int_in_range(-3 * enc_n..=3 * enc_n)?;
-    let angle = (target + enc_sum as f64 / enc_n as f64) * 360.0 / per_turn as f64;
-    let quarter = |u: &mut Unstructured| -> Result<f64> {
-        Ok(if u.ratio(1, 8)? {
-            f64::NAN
-        } else {
-            cal.rate_dph(counts(u)?)
-        })
-    };
-    Ok(Record {
+    let num = target * enc_n + enc_sum;
+    let angle = num as f64 / enc_n as f64 / per_turn as f64 * 360.0;
+    let quarter = |u: &mut Unstructured| -> Result<f32> { Ok(if u.ratio(1, 8)? { f32::NAN } else { rate(u, &cal)? }) };
+    let r = Record {
         index,
-        t_s: u.int_in_range(0..=u64::MAX)? as f64 * 1e-6,
-        encoder_deg: nf_model::angle::wrap_360(angle),
-        rate_dph: cal.rate_dph(counts(u)?),
+        t_us: u.int_in_range(0..=u64::MAX)?,
+        encoder: EncoderAngle::from_counts(num, enc_n as u32, per_turn).expect("in range"),
+        rate_dph: rate(u, &cal)?,
         rate_sd_dph: if u.ratio(1, 8)? {
-            f64::NAN
+            f32::NAN
         } else {
-            cal.sd_dph(u.int_in_range(0..=1u64 << 24)? as f64 / 16.0)
+            cal.sd_dph(u.int_in_range(0..=1u32 << 24)? as f32 / 16.0)
         },
         samples: u.arbitrary()?,
         temp_c: reading(u, 150.0)?,
@@ -59,7 +58,8 @@ fn record(u: &mut Unstructured, index: u16) -> Result<Record> {
         tilt_y_deg: reading(u, 10.0)?,
         quarters_dph: [quarter(u)?, quarter(u)?, quarter(u)?, quarter(u)?],
         missed: u.arbitrary()?,
-    })
+    };
+    Ok((r, angle))
 }
 
 /// What a value written with `decimals` digits reads back as: itself to within the last
@@ -81,12 +81,12 @@ fn run(u: &mut Unstructured) -> Result<()> {
     let lat = u.int_in_range(-8_900_000i32..=8_900_000)? as f32 / 1e5;
     let mut text = String::new();
     for l in [
-        record::meta("format", "northfinder-recording/1"),
-        record::meta_fixed("latitude_deg", lat as f64, 5),
-        record::meta_fixed("dwell_s", 2.0, 3),
-        record::meta("sample_rate_hz", 1000),
-        record::meta("positions", 72),
-        record::meta("order", "sequential"),
+        record::meta("format", |l| l.write_str("northfinder-recording/1")),
+        record::meta("latitude_deg", |l| text::write_f32(l, lat, 5)),
+        record::meta("dwell_s", |l| text::write_units(l, 2000, 3)),
+        record::meta("sample_rate_hz", |l| text::write_u64(l, 1000)),
+        record::meta("positions", |l| text::write_u64(l, 72)),
+        record::meta("order", |l| l.write_str("sequential")),
     ] {
         text += &l;
         text.push('\n');
@@ -96,29 +96,29 @@ fn run(u: &mut Unstructured) -> Result<()> {
     let n = u.int_in_range(1..=8u16)?;
     let mut recs = Vec::new();
     for i in 0..n {
-        let r = record(u, i)?;
+        let (r, angle) = record(u, i)?;
         let line = r.line();
         let mut full = String::new();
         r.write(&mut full).unwrap();
         assert_eq!(line.as_str(), full, "the line is cut at {MAX_LINE} bytes");
         text += &line;
         text.push('\n');
-        recs.push(r);
+        recs.push((r, angle));
     }
     let rec = nf::recording::Recording::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
     assert!(close(rec.latitude_deg, lat as f64, 5));
     assert_eq!(rec.rows.len(), recs.len());
-    for (row, r) in rec.rows.iter().zip(&recs) {
+    for (row, (r, angle)) in rec.rows.iter().zip(&recs) {
         let line = r.line();
         let line = line.as_str();
         assert_eq!(row.index, r.index as u32);
-        same(Some(row.t_s), r.t_s, 3, "t_s", line);
+        same(Some(row.t_s), r.t_us as f64 * 1e-6, 3, "t_s", line);
         // An angle comes back as the same direction: 359.99999996 is written as 0.
-        let d = (row.encoder_deg - r.encoder_deg).rem_euclid(360.0);
+        let d = (row.encoder_deg - angle).rem_euclid(360.0);
         let d = if d > 180.0 { d - 360.0 } else { d };
-        same(Some(r.encoder_deg + d), r.encoder_deg, 7, "encoder_deg", line);
-        same(Some(row.rate_dph), r.rate_dph, 6, "rate_dph", line);
-        same(row.rate_sd_dph, r.rate_sd_dph, 6, "rate_sd_dph", line);
+        same(Some(angle + d), *angle, 7, "encoder_deg", line);
+        same(Some(row.rate_dph), r.rate_dph as f64, 6, "rate_dph", line);
+        same(row.rate_sd_dph, r.rate_sd_dph as f64, 6, "rate_sd_dph", line);
         assert_eq!(row.samples, Some(r.samples));
         same(row.temp_c, r.temp_c as f64, 3, "temp_c", line);
         same(row.tilt_x_deg, r.tilt_x_deg as f64, 5, "tilt_x_deg", line);
@@ -126,7 +126,7 @@ fn run(u: &mut Unstructured) -> Result<()> {
         match row.quarters_dph {
             Some(q) => {
                 for (got, want) in q.iter().zip(r.quarters_dph) {
-                    same(Some(*got), want, 6, "quarter", line);
+                    same(Some(*got), want as f64, 6, "quarter", line);
                 }
             }
             None => assert!(r.quarters_dph.iter().any(|q| q.is_nan()), "{line}"),

@@ -3,7 +3,7 @@
 //! Prints one line per result for `tests/qemu.rs`, which computes the same on the host:
 //!
 //!     fit n=180 psi_deg=... sigma_arcsec=... instructions=...
-//!     run psi_deg=... sigma_arcsec=... positions=... lines=...
+//!     run psi_deg=... sigma_arcsec=... noise_psi_deg=... noise_sigma_arcsec=... positions=... lines=...
 //!
 //! and exits through semihosting: 0 when both ran, 1 after a panic.
 #![no_std]
@@ -15,6 +15,7 @@ mod synthetic;
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
+use nf_mem as _;
 use nf_model::fit::{AzimuthFit, FitConfig};
 
 #[entry]
@@ -36,10 +37,13 @@ fn main() -> ! {
     let (report, lines) = fake::run();
     report.result.expect("the run on the fake instrument finishes");
     let azimuth = report.azimuth.expect("a finished run has an azimuth");
+    let noise = report.under_noise.expect("a run with dwells has a running azimuth");
     hprintln!(
-        "run psi_deg={} sigma_arcsec={} positions={} lines={}",
+        "run psi_deg={} sigma_arcsec={} noise_psi_deg={} noise_sigma_arcsec={} positions={} lines={}",
         azimuth.psi_deg,
         azimuth.sigma_arcsec.unwrap_or(f32::NAN),
+        noise.psi_deg,
+        noise.sigma_psi_deg * 3600.0,
         report.positions,
         lines
     );

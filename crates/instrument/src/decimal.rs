@@ -83,22 +83,19 @@ pub fn parse_fixed(text: &[u8], decimals: u32) -> Result<i64, DecimalError> {
     }
 }
 
-/// `units * 10^-decimals` as the nearest `f32` (but for a rare double rounding past `2^24`
-/// units).
+/// `units * 10^-decimals` as the nearest `f32` for `|units|` up to `2^24` and `decimals` up to
+/// 10 (both exact, one rounding in the division); above, within one unit of the last place,
+/// and exact for a whole number. No `f64`: the firmware has none.
 pub fn to_f32(units: i64, decimals: u32) -> f32 {
     const EXACT: i64 = 1 << 24;
+    let scale = pow10(decimals.min(MAX_DECIMALS)) as i64;
     if (-EXACT..=EXACT).contains(&units) {
-        // Both exact in f32, one rounding in the division; one VCVT on the M4F.
-        units as i32 as f32 / pow10(decimals.min(MAX_DECIMALS)) as f32
+        // One VCVT on the M4F.
+        units as i32 as f32 / scale as f32
     } else {
-        to_f64(units, decimals) as f32
+        // The whole units and the fraction apart: `60` with 9 decimals is 60, not 60.000004.
+        (units / scale) as f32 + (units % scale) as f32 / scale as f32
     }
-}
-
-/// `units * 10^-decimals` as the nearest `f64` when `|units| < 2^53` (both exact, one
-/// rounding in the division), within one rounding of it above.
-pub fn to_f64(units: i64, decimals: u32) -> f64 {
-    units as f64 / pow10(decimals.min(MAX_DECIMALS)) as f64
 }
 
 #[cfg(test)]
@@ -164,7 +161,7 @@ mod tests {
     fn the_decimals_ask_for_at_most_the_largest_power_of_ten() {
         assert_eq!(pow10(MAX_DECIMALS), 1_000_000_000_000_000_000);
         assert_eq!(p("1", 30), Ok(1_000_000_000_000_000_000));
-        assert_eq!(to_f64(5, 30), 5e-18);
+        assert_eq!(to_f32(5, 30), 5e-18);
     }
 
     #[test]
@@ -173,11 +170,25 @@ mod tests {
             let want: f32 = s.parse().unwrap();
             assert_eq!(to_f32(p(s, 6).unwrap(), 6), want, "{s}");
         }
-        for s in ["0.0012", "0.004", "0.3", "60", "0.0001178", "1000000", "0.000000001"] {
-            let want: f64 = s.parse().unwrap();
-            assert_eq!(to_f64(p(s, 9).unwrap(), 9), want, "{s}");
+        for s in [
+            "0.0012",
+            "0.004",
+            "0.3",
+            "60",
+            "0.0001178",
+            "0.000000001",
+            "0.016777216",
+            "-100000",
+        ] {
+            let want: f32 = s.parse().unwrap();
+            assert_eq!(to_f32(p(s, 9).unwrap(), 9), want, "{s}");
         }
-        assert_eq!(to_f64(p("0.00000596", 15).unwrap(), 15), 0.00000596);
+        // Past 2^24 units: within one unit of the last place.
+        for s in ["123456.789123456", "0.016777217", "999999999.999999999", "-0.987654321"] {
+            let want: f64 = s.parse().unwrap();
+            let got = to_f32(p(s, 9).unwrap(), 9) as f64;
+            assert!((got - want).abs() <= want.abs() * f32::EPSILON as f64, "{s}: {got}");
+        }
         assert_eq!(to_f32(i64::MAX, 0), 9.223372e18);
     }
 }

@@ -66,7 +66,7 @@ pub fn parse_line(line: &[u8]) -> Option<(f32, f32)> {
     let star = line.iter().position(|&b| b == b'*')?;
     let (body, sum) = (&line[..star], &line[star + 1..]);
     let sum = sum.trim_ascii_end();
-    if sum.len() != 2 || u8::from_str_radix(core::str::from_utf8(sum).ok()?, 16).ok()? != checksum(body) {
+    if hex_byte(sum)? != checksum(body) {
         return None;
     }
     let mut fields = body.split(|&b| b == b',');
@@ -76,6 +76,13 @@ pub fn parse_line(line: &[u8]) -> Option<(f32, f32)> {
     let x = elevation_udeg(fields.next()?)?;
     let y = elevation_udeg(fields.next()?)?;
     fields.next().is_none().then_some((to_deg(x), to_deg(y)))
+}
+
+/// Two hex digits (either case) as a byte.
+fn hex_byte(digits: &[u8]) -> Option<u8> {
+    let [hi, lo] = digits else { return None };
+    let value = |d: u8| (d as char).to_digit(16);
+    Some((value(*hi)? * 16 + value(*lo)?) as u8)
 }
 
 /// An elevation in micro-degrees, `None` if it is no number or beyond a right angle.
@@ -250,5 +257,23 @@ mod tests {
         // Well-formed but beyond a right angle: no reading.
         let absurd = format_line(1.8e14, 0.0);
         assert_eq!(parse_line(absurd.trim_end().as_bytes()), None, "{absurd}");
+    }
+
+    #[test]
+    fn the_checksum_is_two_hex_digits_of_either_case() {
+        for b in 0..=255u8 {
+            for text in [std::format!("{b:02X}"), std::format!("{b:02x}")] {
+                assert_eq!(hex_byte(text.as_bytes()), Some(b), "{text}");
+            }
+        }
+        for bad in ["", "0", "000", "+F", "-1", "0g", "g0", " 1", "1 ", "\u{e9}"] {
+            assert_eq!(hex_byte(bad.as_bytes()), None, "{bad:?}");
+        }
+        let body = "TLT,+0.50000,+0.25000";
+        let sum = checksum(body.as_bytes());
+        assert_eq!(
+            parse_line(std::format!("${body}*{sum:02x}").as_bytes()),
+            Some((0.5, 0.25))
+        );
     }
 }

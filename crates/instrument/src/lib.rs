@@ -14,6 +14,7 @@ pub mod adc;
 pub mod clock;
 pub mod decimal;
 pub mod encoder;
+pub mod encoder_angle;
 pub mod inclinometer;
 pub mod link;
 pub mod record;

@@ -18,6 +18,7 @@
 
 use crate::decimal::{self, DecimalError};
 use crate::run::{RunConfig, TiltPolicy};
+use nf_model::dwell::Calibration;
 use nf_model::order::{Order, OrderError, VisitList};
 
 /// Decimals of the latitude and the tilt limit: micro-degrees.
@@ -27,9 +28,9 @@ pub const TARGET_DECIMALS: u32 = 6;
 /// Decimals of the noise terms: 1e-9 of their units.
 pub const NOISE_DECIMALS: u32 = 9;
 /// Decimals of `cal_zero`: micro-counts.
-pub const CAL_ZERO_DECIMALS: u32 = 6;
+pub const CAL_ZERO_DECIMALS: u32 = Calibration::ZERO_DECIMALS;
 /// Decimals of `cal_scale`: 1e-15 deg/h per count.
-pub const CAL_SCALE_DECIMALS: u32 = 15;
+pub const CAL_SCALE_DECIMALS: u32 = Calibration::SCALE_DECIMALS;
 
 /// A setting the host can change; values as the line gives them, in fixed point (the
 /// `*_DECIMALS` constants); [`apply`] converts them.
@@ -122,14 +123,23 @@ impl LinkError {
             LinkError::NoListToExtend => "SET order+ continues a listed order; set one first",
         }
     }
+
+    /// The message with an order's details, through `write_str` alone (no `core::fmt` on the
+    /// MCU).
+    pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
+        match self {
+            LinkError::Order(e) => {
+                w.write_str("order: ")?;
+                e.write_message(w)
+            }
+            e => w.write_str(e.message()),
+        }
+    }
 }
 
 impl core::fmt::Display for LinkError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            LinkError::Order(e) => write!(f, "order: {e}"),
-            e => f.write_str(e.message()),
-        }
+        self.write_message(f)
     }
 }
 
@@ -144,8 +154,8 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
         Setting::TiltRefuse(r) => cfg.tilt_policy = if r { TiltPolicy::Refuse } else { TiltPolicy::Warn },
         Setting::Order(o) => cfg.order = o,
         Setting::TargetUarcsec(v) => cfg.target_arcsec = decimal::to_f32(v, TARGET_DECIMALS),
-        Setting::CalZero(v) => cfg.calibration.zero_counts = decimal::to_f64(v, CAL_ZERO_DECIMALS),
-        Setting::CalScale(v) => cfg.calibration.dph_per_count = decimal::to_f64(v, CAL_SCALE_DECIMALS),
+        Setting::CalZero(v) => cfg.calibration.zero_micro_counts = v,
+        Setting::CalScale(v) => cfg.calibration.femto_dph_per_count = v,
         Setting::Noise(term, v) => {
             let m = &mut cfg.noise;
             *match term {
@@ -154,7 +164,7 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
                 NoiseTerm::Rrw => &mut m.rrw_dph_rth,
                 NoiseTerm::GmSigma => &mut m.gm_sigma_dph,
                 NoiseTerm::GmTau => &mut m.gm_tau_s,
-            } = decimal::to_f64(v, NOISE_DECIMALS);
+            } = decimal::to_f32(v, NOISE_DECIMALS);
         }
         Setting::OrderMore(more) => match &mut cfg.order {
             Order::List(l) => {
@@ -171,8 +181,12 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
     Ok(())
 }
 
-fn num<T: core::str::FromStr>(v: &str) -> Result<T, LinkError> {
-    v.parse().map_err(|_| LinkError::BadValue)
+/// A whole number (`[+-]digits`) within `lo..=hi`.
+fn whole<T: TryFrom<i64>>(v: &str, lo: i64, hi: i64) -> Result<T, LinkError> {
+    if v.contains('.') {
+        return Err(LinkError::BadValue);
+    }
+    T::try_from(fixed(v, 0, lo, hi)?).map_err(|_| LinkError::OutOfRange)
 }
 
 /// A decimal in units of `10^-decimals`, within `lo..=hi` units.
@@ -201,11 +215,11 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
         let val = words.next().ok_or(LinkError::MissingValue)?;
         let k = |s: &str| key.eq_ignore_ascii_case(s);
         let s = if k("n") {
-            Setting::Positions(check(num(val)?, 4, 720)?)
+            Setting::Positions(whole(val, 4, 720)?)
         } else if k("dwell_ms") {
-            Setting::DwellMs(check(num(val)?, 10, 600_000)?)
+            Setting::DwellMs(whole(val, 10, 600_000)?)
         } else if k("settle_ms") {
-            Setting::SettleMs(check(num(val)?, 0, 60_000)?)
+            Setting::SettleMs(whole(val, 0, 60_000)?)
         } else if k("lat") {
             Setting::LatitudeUdeg(fixed(val, ANGLE_DECIMALS, -89_000_000, 89_000_000)?)
         } else if k("tilt_limit") {
@@ -217,11 +231,11 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
                 _ => return Err(LinkError::BadValue),
             }
         } else if k("cal_zero") {
-            const MAX: i64 = 8_388_608_000_000;
+            const MAX: i64 = Calibration::MAX_ZERO_MICRO_COUNTS;
             Setting::CalZero(fixed(val, CAL_ZERO_DECIMALS, -MAX, MAX)?)
         } else if k("cal_scale") {
             // Not zero: 1e-15 deg/h per count and more, up to 1 deg/h per count either way.
-            const MAX: i64 = 1_000_000_000_000_000;
+            const MAX: i64 = Calibration::MAX_FEMTO_DPH_PER_COUNT;
             match fixed(val, CAL_SCALE_DECIMALS, -MAX, MAX)? {
                 0 => return Err(LinkError::OutOfRange),
                 v => Setting::CalScale(v),
@@ -293,6 +307,12 @@ mod tests {
         assert_eq!(parse("SET x 1"), Err(LinkError::UnknownKey));
         assert_eq!(parse("SET n seventy"), Err(LinkError::BadValue));
         assert_eq!(parse("SET n 3"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET n 70000"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET n -8"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET n 72.0"), Err(LinkError::BadValue));
+        assert_eq!(parse("SET n +72"), Ok(Command::Set(Setting::Positions(72))));
+        assert_eq!(parse("SET dwell_ms 99999999999999999999"), Err(LinkError::OutOfRange));
+        assert_eq!(parse("SET settle_ms 1e3"), Err(LinkError::BadValue));
         assert_eq!(parse("SET lat 91"), Err(LinkError::OutOfRange));
         assert_eq!(parse("SET lat 89.0000005"), Err(LinkError::OutOfRange));
         assert_eq!(parse("SET lat 1e1"), Err(LinkError::BadValue));
@@ -340,7 +360,7 @@ mod tests {
                 m.gm_sigma_dph,
                 m.gm_tau_s
             ),
-            // Read in fixed point: the nearest f64 to each.
+            // Read in fixed point: the nearest f32 to each.
             (0.0012, 0.004, 0.3, 0.01, 60.0)
         );
         assert_eq!(cfg.target_arcsec, 18.0);

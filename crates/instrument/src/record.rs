@@ -1,10 +1,16 @@
 //! Recording lines (`shared/recording-format.md`), written without float formatting code:
-//! values go out as scaled integers, which keeps the firmware small and the digits exact.
+//! values go out as scaled integers ([`nf_model::text`]), which keeps the firmware small and
+//! the digits exact.
 
+use crate::encoder_angle::EncoderAngle;
 use core::fmt::{self, Write};
+use nf_model::text;
 
 /// Longest line this module writes.
 pub const MAX_LINE: usize = 192;
+
+/// One line of the recording.
+pub type Line = heapless::String<MAX_LINE>;
 
 /// The column header, in the order [`Record::write`] writes the values.
 pub const HEADER: &str = "index,t_s,encoder_deg,rate_dph,rate_sd_dph,samples,temp_c,tilt_x_deg,tilt_y_deg,q1_dph,q2_dph,q3_dph,q4_dph,missed";
@@ -13,93 +19,64 @@ pub const HEADER: &str = "index,t_s,encoder_deg,rate_dph,rate_sd_dph,samples,tem
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Record {
     pub index: u16,
-    pub t_s: f64,
-    pub encoder_deg: f64,
-    pub rate_dph: f64,
-    pub rate_sd_dph: f64,
+    /// The dwell's centre from the start of the first dwell, microseconds (written to the ms).
+    pub t_us: u64,
+    pub encoder: EncoderAngle,
+    pub rate_dph: f32,
+    pub rate_sd_dph: f32,
     pub samples: u32,
     pub temp_c: f32,
     pub tilt_x_deg: f32,
     pub tilt_y_deg: f32,
-    pub quarters_dph: [f64; 4],
+    pub quarters_dph: [f32; 4],
     /// Samples of the dwell the gyro source lost (not in `samples`); readers that do not
     /// know the column ignore it.
     pub missed: u32,
 }
 
-/// Writes `x` with `decimals` digits after the point (`nan` for a value that is not finite, or
-/// too large for the scaled integer: `|x| 10^decimals >= 2^64`).
-pub fn write_fixed<W: Write>(w: &mut W, x: f64, decimals: u32) -> fmt::Result {
-    let scale = 10u64.pow(decimals);
-    let scaled = nf_model::Float::round(nf_model::Float::abs(x) * scale as f64);
-    // `as u64` saturates there, which would write another number.
-    if !x.is_finite() || scaled >= 18_446_744_073_709_551_616.0 {
-        return w.write_str("nan");
-    }
-    let v = scaled as u64;
-    let sign = if x < 0.0 && v != 0 { "-" } else { "" };
-    if decimals == 0 {
-        return write!(w, "{sign}{v}");
-    }
-    write!(
-        w,
-        "{sign}{}.{:0width$}",
-        v / scale,
-        v % scale,
-        width = decimals as usize
-    )
-}
-
-/// `deg` in [0, 360) as it reads at seven decimals: 359.99999996 would print as 360.0000000.
-fn angle_7(deg: f64) -> f64 {
-    let r = nf_model::Float::round(nf_model::angle::wrap_360(deg) * 1e7) / 1e7;
-    if r >= 360.0 { 0.0 } else { r }
-}
-
 impl Record {
-    /// The CSV line (without line end).
+    /// The CSV line (without line end). A value that is not finite, or too large for its
+    /// digits, is written `nan` ([`text::write_f32`]).
     pub fn write<W: Write>(&self, w: &mut W) -> fmt::Result {
-        write!(w, "{},", self.index)?;
-        write_fixed(w, self.t_s, 3)?;
+        text::write_u64(w, self.index as u64)?;
         w.write_char(',')?;
-        write_fixed(w, angle_7(self.encoder_deg), 7)?;
+        let ms = self.t_us / 1000 + (self.t_us % 1000 >= 500) as u64;
+        text::write_units(w, ms as i64, 3)?;
         w.write_char(',')?;
-        write_fixed(w, self.rate_dph, 6)?;
+        text::write_units(w, self.encoder.units() as i64, EncoderAngle::DECIMALS)?;
+        for (x, decimals) in [(self.rate_dph, 6), (self.rate_sd_dph, 6)] {
+            w.write_char(',')?;
+            text::write_f32(w, x, decimals)?;
+        }
         w.write_char(',')?;
-        write_fixed(w, self.rate_sd_dph, 6)?;
-        write!(w, ",{},", self.samples)?;
-        write_fixed(w, self.temp_c as f64, 3)?;
-        w.write_char(',')?;
-        write_fixed(w, self.tilt_x_deg as f64, 5)?;
-        w.write_char(',')?;
-        write_fixed(w, self.tilt_y_deg as f64, 5)?;
+        text::write_u64(w, self.samples as u64)?;
+        for (x, decimals) in [(self.temp_c, 3), (self.tilt_x_deg, 5), (self.tilt_y_deg, 5)] {
+            w.write_char(',')?;
+            text::write_f32(w, x, decimals)?;
+        }
         for q in self.quarters_dph {
             w.write_char(',')?;
-            write_fixed(w, q, 6)?;
+            text::write_f32(w, q, 6)?;
         }
-        write!(w, ",{}", self.missed)
+        w.write_char(',')?;
+        text::write_u64(w, self.missed as u64)
     }
 
-    pub fn line(&self) -> heapless::String<MAX_LINE> {
-        let mut s = heapless::String::new();
+    pub fn line(&self) -> Line {
+        let mut s = Line::new();
         // The widest record is shorter than MAX_LINE.
         let _ = self.write(&mut s);
         s
     }
 }
 
-/// A `# key = value` metadata line with a fixed-point value.
-pub fn meta_fixed(key: &str, value: f64, decimals: u32) -> heapless::String<MAX_LINE> {
-    let mut s = heapless::String::new();
-    let _ = write!(s, "# {key} = ");
-    let _ = write_fixed(&mut s, value, decimals);
-    s
-}
-
-/// A `# key = value` metadata line.
-pub fn meta(key: &str, value: impl fmt::Display) -> heapless::String<MAX_LINE> {
-    let mut s = heapless::String::new();
-    let _ = write!(s, "# {key} = {value}");
+/// A `# key = value` metadata line, the value written by `value`.
+pub fn meta(key: &str, value: impl FnOnce(&mut Line) -> fmt::Result) -> Line {
+    let mut s = Line::new();
+    let _ = s.push_str("# ");
+    let _ = s.push_str(key);
+    let _ = s.push_str(" = ");
+    let _ = value(&mut s);
     s
 }
 
@@ -107,59 +84,11 @@ pub fn meta(key: &str, value: impl fmt::Display) -> heapless::String<MAX_LINE> {
 mod tests {
     use super::*;
 
-    #[test]
-    fn fixed_point_formatting() {
-        let f = |x: f64, d: u32| {
-            let mut s = heapless::String::<32>::new();
-            write_fixed(&mut s, x, d).unwrap();
-            s
-        };
-        assert_eq!(f(10.8561234567, 6), "10.856123");
-        assert_eq!(f(-0.0000004, 6), "0.000000");
-        assert_eq!(f(-0.0000006, 6), "-0.000001");
-        assert_eq!(f(359.99999999, 7), "360.0000000");
-        assert_eq!(f(-12.5, 0), "-13");
-        assert_eq!(f(f64::NAN, 3), "nan");
-        assert_eq!(f(1e15, 5), "nan");
-        // Past 2^64 scaled, the integer saturated: a tilt of 4.5e24 went out as
-        // 18446744073709551.615 (found by the record_roundtrip fuzz target).
-        assert_eq!(f(4.536673774803529e24, 3), "nan");
-        assert_eq!(f(-1e30, 5), "nan");
-        assert_eq!(f(1.8e16, 3), "18000000000000000.000");
-    }
-
-    #[test]
-    fn angles_are_written_in_0_to_360() {
-        for (deg, want) in [
-            (359.99999999, ",0.0000000,"),
-            (-0.00000001, ",0.0000000,"),
-            (360.5, ",0.5000000,"),
-        ] {
-            let r = Record {
-                index: 0,
-                t_s: 0.0,
-                encoder_deg: deg,
-                rate_dph: 0.0,
-                rate_sd_dph: 0.0,
-                samples: 1,
-                temp_c: 20.0,
-                tilt_x_deg: 0.0,
-                tilt_y_deg: 0.0,
-                quarters_dph: [0.0; 4],
-                missed: 0,
-            };
-            assert!(r.line().contains(want), "{deg}: {}", r.line());
-        }
-    }
-
-    #[test]
-    fn an_angle_that_rounds_to_360_is_written_as_0() {
-        // A 29-bit encoder averaged to 0.05 counts below 0 gave 360.0000000, which the
-        // recording reader refuses. Found by the record_roundtrip fuzz target.
-        let mut r = Record {
+    fn record(encoder: EncoderAngle) -> Record {
+        Record {
             index: 0,
-            t_s: 1.0,
-            encoder_deg: 359.99999996,
+            t_us: 1_000_000,
+            encoder,
             rate_dph: 0.0,
             rate_sd_dph: 0.0,
             samples: 1,
@@ -168,18 +97,44 @@ mod tests {
             tilt_y_deg: 0.0,
             quarters_dph: [0.0; 4],
             missed: 0,
-        };
+        }
+    }
+
+    #[test]
+    fn an_angle_that_rounds_to_360_is_written_as_0() {
+        // A 29-bit encoder averaged to 0.05 counts below 0 gave 360.0000000, which the
+        // recording reader refuses. Found by the record_roundtrip fuzz target.
+        let per_turn = 1 << 29;
+        let r = record(EncoderAngle::from_counts(-1, 20, per_turn).unwrap());
         assert!(r.line().starts_with("0,1.000,0.0000000,"), "{}", r.line());
-        r.encoder_deg = 359.99999994;
+        let r = record(EncoderAngle::from_counts(-4, 20, per_turn).unwrap());
         assert!(r.line().starts_with("0,1.000,359.9999999,"), "{}", r.line());
+        let r = record(EncoderAngle::from_counts(1, 2, 1 << 23).unwrap());
+        assert!(r.line().starts_with("0,1.000,0.0000215,"), "{}", r.line());
+    }
+
+    #[test]
+    fn times_round_to_the_millisecond() {
+        for (t_us, want) in [(0, "0.000"), (1_499, "0.001"), (1_500, "0.002"), (7_100_000, "7.100")] {
+            let r = Record {
+                t_us,
+                ..record(EncoderAngle::from_counts(0, 1, 1).unwrap())
+            };
+            assert_eq!(r.line().split(',').nth(1), Some(want), "{t_us}");
+        }
+        let r = Record {
+            t_us: u64::MAX,
+            ..record(EncoderAngle::from_counts(0, 1, 1).unwrap())
+        };
+        assert_eq!(r.line().split(',').nth(1), Some("18446744073709.552"));
     }
 
     #[test]
     fn record_line_has_every_column_of_the_header() {
         let r = Record {
             index: 3,
-            t_s: 7.1,
-            encoder_deg: 15.0,
+            t_us: 7_100_000,
+            encoder: EncoderAngle::from_counts(1 << 19, 3, 1 << 23).unwrap(),
             rate_dph: -4.25,
             rate_sd_dph: 0.1,
             samples: 2000,
@@ -191,18 +146,24 @@ mod tests {
         };
         let l = r.line();
         assert_eq!(l.split(',').count(), HEADER.split(',').count());
-        assert!(l.ends_with(",4.000000,12"), "{l}");
-        assert!(
-            l.starts_with("3,7.100,15.0000000,-4.250000,0.100000,2000,35.500,0.00100,-0.00200,1.000000"),
-            "{l}"
-        );
         assert_eq!(
-            meta("format", "northfinder-recording/1").as_str(),
+            l.as_str(),
+            "3,7.100,7.5000000,-4.250000,0.100000,2000,35.500,0.00100,-0.00200,1.000000,2.000000,3.000000,4.000000,12"
+        );
+        let bad = Record {
+            rate_sd_dph: f32::NAN,
+            temp_c: f32::INFINITY,
+            tilt_x_deg: 4.5e24,
+            ..r
+        };
+        assert!(bad.line().contains(",nan,2000,nan,nan,-0.00200,"), "{}", bad.line());
+        assert_eq!(
+            meta("format", |l| l.write_str("northfinder-recording/1")).as_str(),
             "# format = northfinder-recording/1"
         );
         assert_eq!(
-            meta_fixed("latitude_deg", 43.8, 6).as_str(),
-            "# latitude_deg = 43.800000"
+            meta("latitude_deg", |l| text::write_f32(l, 43.8, 6)).as_str(),
+            "# latitude_deg = 43.799999"
         );
     }
 }

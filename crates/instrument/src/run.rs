@@ -8,17 +8,21 @@
 use crate::adc::{AdcError, is_saturated};
 use crate::clock::{Clock, with_timeout};
 use crate::encoder::{BissEncoder, EncoderError};
+use crate::encoder_angle::EncoderAngle;
 use crate::inclinometer::{InclError, Inclinometer};
 use crate::record::{self, HEADER, Record};
 use crate::stepper::{Motor, MotorError};
+use core::fmt::Write as _;
 use embedded_hal_async::spi::SpiBus;
 use embedded_io_async::{Read, Write};
 use nf_model::dwell::{Calibration, DwellAccumulator};
 use nf_model::fit::{AzimuthFit, FitConfig, FitError, FitResult, Obs, vertical_earth_rate_dph};
 use nf_model::level::{TiltReading, fit_tilt};
-use nf_model::noise::{NoiseError, NoiseModel};
+use nf_model::noise::NoiseError;
+use nf_model::noise_terms::NoiseTerms;
 use nf_model::order::{Order, OrderError};
 use nf_model::running::{Running, RunningGls};
+use nf_model::text;
 
 /// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
 pub trait GyroSource {
@@ -91,7 +95,7 @@ pub struct RunConfig {
     pub tilt_correction: bool,
     /// The gyro's noise model for the running azimuth; with no angle random walk the white
     /// part of each dwell mean comes from its samples' spread.
-    pub noise: NoiseModel,
+    pub noise: NoiseTerms,
     /// End the run once the running sigma under the noise model is at most this, arcsec
     /// (0: visit every position).
     pub target_arcsec: f32,
@@ -118,7 +122,7 @@ impl RunConfig {
         position_tol_deg: 0.02,
         max_corrections: 3,
         tilt_correction: true,
-        noise: NoiseModel::WHITE_NONE,
+        noise: NoiseTerms::NONE,
         target_arcsec: 0.0,
         calibration: Calibration::DEFAULT,
     };
@@ -219,7 +223,7 @@ pub struct RunReport {
     /// The fit of the positions measured (all of them when the run finished).
     pub azimuth: Option<Azimuth>,
     /// The running azimuth under the noise model.
-    pub under_noise: Option<Running>,
+    pub under_noise: Option<Running<f32>>,
     /// The run ended early: the running sigma reached the target.
     pub target_reached: bool,
 }
@@ -269,6 +273,12 @@ where
         r.map(|c| c as i64).map_err(|e| self.err(Fault::Encoder(e)))
     }
 
+    /// The angle of `num / den` encoder counts.
+    fn angle(&self, num: i64, den: u32) -> Result<EncoderAngle, RunError> {
+        // Within range for every encoder the driver reads (32 bits and 20 reads at most).
+        EncoderAngle::from_counts(num, den, self.per_turn as u64).ok_or(self.err(Fault::BadConfig))
+    }
+
     async fn tilt(&mut self) -> Result<(f32, f32), RunError> {
         let r = self.hw.inclinometer.read(&mut self.hw.clock).await;
         r.map_err(|e| self.err(Fault::Inclinometer(e)))
@@ -297,7 +307,8 @@ where
     /// Moves to `target` counts, closing the loop on the encoder; returns where it stopped.
     async fn move_to(&mut self, target: i64) -> Result<i64, RunError> {
         let spr = self.hw.motor.steps_per_rev() as i64;
-        let tol = ((self.cfg.position_tol_deg as f64 / 360.0) * self.per_turn as f64) as i64;
+        // Under 1 deg (the settings' range) of at most 2^32 counts: an i32.
+        let tol = (self.cfg.position_tol_deg / 360.0 * self.per_turn as f32) as i32 as i64;
         let mut cur = self.encoder().await?;
         for attempt in 0..=self.cfg.max_corrections {
             let err = wrap_counts(target - cur, self.per_turn);
@@ -354,7 +365,7 @@ where
             self.settle().await?;
             let (x, y) = self.tilt().await?;
             readings[i] = TiltReading {
-                gamma_deg: (at as f64 * 360.0 / self.per_turn as f64) as f32,
+                gamma_deg: self.angle(at, 1)?.deg(),
                 x_deg: x,
                 y_deg: y,
             };
@@ -431,35 +442,42 @@ where
         if missed > 0 {
             warn!("dwell {}: {} samples missed (the queue overran)", index, missed);
         }
-        let st = acc.stats();
         let cal = cfg.calibration;
-        let angle = (target as f64 + enc_sum as f64 / enc_n as f64) * 360.0 / self.per_turn as f64;
         Ok(Record {
             index,
-            t_s: t_mid as f64 * 1e-6,
-            encoder_deg: nf_model::angle::wrap_360(angle),
-            rate_dph: cal.rate_dph(st.mean),
-            rate_sd_dph: cal.sd_dph(st.sd),
-            samples: st.samples,
+            t_us: t_mid,
+            encoder: self.angle(target * enc_n + enc_sum, enc_n as u32)?,
+            rate_dph: cal.rate_dph(acc.sum(), acc.samples()),
+            rate_sd_dph: cal.sd_dph(nf_model::sqrt(acc.variance())),
+            samples: acc.samples(),
             temp_c: temp,
             tilt_x_deg: tilt.0,
             tilt_y_deg: tilt.1,
-            quarters_dph: st.quarters.map(|q| cal.rate_dph(q)),
+            quarters_dph: [0, 1, 2, 3].map(|q| {
+                let (sum, n) = acc.quarter(q);
+                cal.rate_dph(sum, n)
+            }),
             missed,
         })
     }
 
     /// Adds a dwell to the running azimuth under the noise model and logs it.
-    fn under_noise(&self, running: &mut RunningGls, rec: &Record) -> Result<Running, RunError> {
+    fn under_noise(&self, running: &mut RunningGls<f32>, rec: &Record) -> Result<Running<f32>, RunError> {
         let cfg = self.cfg;
         let mut rate = rec.rate_dph;
         if cfg.tilt_correction {
-            rate -= vertical_earth_rate_dph(cfg.latitude_deg, rec.tilt_x_deg) as f64;
+            rate -= vertical_earth_rate_dph(cfg.latitude_deg, rec.tilt_x_deg);
         }
-        // No white level given: the dwell's own samples show it.
-        let white =
-            (cfg.noise.arw_deg_rth == 0.0).then(|| rec.rate_sd_dph * rec.rate_sd_dph / rec.samples.max(1) as f64);
-        running.add(rec.encoder_deg, rec.t_s, rate, white).map_err(|_| {
+        // No white level given: the dwell's own samples show it, and a sample carries at least
+        // the quantisation of one count (the spread of samples that are all one count is 0).
+        let white = (cfg.noise.arw_deg_rth == 0.0).then(|| {
+            let count = cfg.calibration.dph_per_count();
+            let (var, floor) = (rec.rate_sd_dph * rec.rate_sd_dph, count * count / 12.0);
+            // NaN (one sample) stays NaN: the dwell cannot be weighed.
+            let var = if var < floor { floor } else { var };
+            var / rec.samples.max(1) as f32
+        });
+        running.add(rec.encoder.deg(), rec.t_us, rate, white).map_err(|_| {
             self.err(Fault::Fit(FitError::NonFinite {
                 index: rec.index as u32,
             }))
@@ -480,13 +498,15 @@ where
         // one line, not seven.
         for i in 0..7 {
             let l = match i {
-                0 => record::meta("format", "northfinder-recording/1"),
-                1 => record::meta_fixed("latitude_deg", c.latitude_deg as f64, 5),
-                2 => record::meta_fixed("dwell_s", c.dwell_ms as f64 / 1000.0, 3),
-                3 => record::meta("sample_rate_hz", c.sample_rate_hz),
-                4 => record::meta("positions", c.positions),
-                5 => record::meta("order", c.order.name()),
-                _ => record::meta("firmware", concat!("nf-instrument ", env!("CARGO_PKG_VERSION"))),
+                0 => record::meta("format", |l| l.write_str("northfinder-recording/1")),
+                1 => record::meta("latitude_deg", |l| text::write_f32(l, c.latitude_deg, 5)),
+                2 => record::meta("dwell_s", |l| text::write_units(l, c.dwell_ms as i64, 3)),
+                3 => record::meta("sample_rate_hz", |l| text::write_u64(l, c.sample_rate_hz as u64)),
+                4 => record::meta("positions", |l| text::write_u64(l, c.positions as u64)),
+                5 => record::meta("order", |l| l.write_str(c.order.name())),
+                _ => record::meta("firmware", |l| {
+                    l.write_str(concat!("nf-instrument ", env!("CARGO_PKG_VERSION")))
+                }),
             };
             self.sink.line(&l).await;
         }
@@ -559,7 +579,7 @@ where
     }
     let checked = cfg.order.check(cfg.positions).map_err(Fault::Order).and_then(|()| {
         cfg.noise.validate().map_err(Fault::Noise)?;
-        RunningGls::new(&cfg.noise, cfg.dwell_ms as f64 / 1000.0).map_err(|_| Fault::BadConfig)
+        RunningGls::new(&cfg.noise, cfg.dwell_ms as f32 / 1000.0).map_err(|_| Fault::BadConfig)
     });
     let mut running = match checked {
         Ok(r) => r,
@@ -594,16 +614,16 @@ where
             report.positions = k + 1;
             report.missed_samples += rec.missed;
             let obs = Obs {
-                gamma_deg: rec.encoder_deg as f32,
-                t_s: rec.t_s as f32,
-                rate_dph: rec.rate_dph as f32,
+                gamma_deg: rec.encoder.deg(),
+                t_s: rec.t_us as f32 * 1e-6,
+                rate_dph: rec.rate_dph,
                 tilt_x_deg: Some(rec.tilt_x_deg),
                 weight: 1.0,
             };
             fit.add(&obs).map_err(|e| ctx.err(Fault::Fit(e)))?;
             info!(
                 "position {}: gamma {} deg, rate {} deg/h, sd {}",
-                k, obs.gamma_deg, obs.rate_dph, rec.rate_sd_dph as f32
+                k, obs.gamma_deg, obs.rate_dph, rec.rate_sd_dph
             );
             match fit.solve() {
                 Ok(r) if r.dof > 0 => info!(
@@ -618,7 +638,7 @@ where
             let r = ctx.under_noise(&mut running, &rec)?;
             report.under_noise = Some(r);
             let sigma_arcsec = r.sigma_psi_deg * 3600.0;
-            if cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec as f64 {
+            if cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec {
                 info!(
                     "target {} arcsec reached after {} of {} dwells: sigma {} arcsec under the noise model",
                     cfg.target_arcsec,

@@ -2,10 +2,12 @@
 //! firmware feeds it the bytes of its USART; the host tests feed it scenario files.
 
 use crate::link::{self, Command};
-use crate::record::{MAX_LINE, write_fixed};
+use crate::record::MAX_LINE;
 use crate::run::{RunConfig, RunReport, TiltPolicy};
 use core::fmt::Write;
 use heapless::{String, Vec};
+use nf_model::dwell::Calibration;
+use nf_model::text;
 
 /// Longest command line; a longer one is discarded up to its newline.
 pub const MAX_COMMAND: usize = 80;
@@ -119,36 +121,39 @@ impl Session {
         match event {
             Assembled::Line(l) => match link::parse(l) {
                 Ok(cmd) => self.command(cmd),
-                Err(e) => (Action::None, line(format_args!("ERR {e}"))),
+                Err(e) => (Action::None, error(e)),
             },
-            Assembled::TooLong => (
-                Action::None,
-                line(format_args!("ERR line too long (at most {MAX_COMMAND} bytes)")),
-            ),
-            Assembled::NotUtf8 => (Action::None, line(format_args!("ERR line is not text"))),
+            Assembled::TooLong => {
+                let mut l = ReplyLine::new();
+                let _ = l.push_str("ERR line too long (at most ");
+                let _ = text::write_u64(&mut l, MAX_COMMAND as u64);
+                let _ = l.push_str(" bytes)");
+                (Action::None, one(l))
+            }
+            Assembled::NotUtf8 => (Action::None, line("ERR line is not text")),
         }
     }
 
     fn command(&mut self, cmd: Command) -> (Action, Reply) {
         match cmd {
             Command::Set(_) | Command::Start | Command::Save | Command::Defaults if self.running => {
-                (Action::None, line(format_args!("ERR a run is in progress")))
+                (Action::None, line("ERR a run is in progress"))
             }
             Command::Save => (Action::Save, Reply::new()),
             Command::Defaults => {
                 self.cfg = RunConfig::DEFAULT;
-                (Action::None, line(format_args!("OK")))
+                (Action::None, line("OK"))
             }
             Command::Set(s) => match link::apply(&mut self.cfg, s) {
-                Ok(()) => (Action::None, line(format_args!("OK"))),
-                Err(e) => (Action::None, line(format_args!("ERR {e}"))),
+                Ok(()) => (Action::None, line("OK")),
+                Err(e) => (Action::None, error(e)),
             },
             Command::Start => {
                 self.running = true;
-                (Action::Start, line(format_args!("OK")))
+                (Action::Start, line("OK"))
             }
-            Command::Abort if self.running => (Action::Abort, line(format_args!("OK"))),
-            Command::Abort => (Action::None, line(format_args!("ERR no run to abort"))),
+            Command::Abort if self.running => (Action::Abort, line("OK")),
+            Command::Abort => (Action::None, line("ERR no run to abort")),
             Command::Status => (Action::None, self.status()),
             Command::Config => (Action::None, self.config()),
         }
@@ -158,25 +163,28 @@ impl Session {
     /// sigma, the target.
     pub fn status(&self) -> Reply {
         let mut l = ReplyLine::new();
-        let _ = write!(l, "STATUS {}", if self.running { "running" } else { "idle" });
+        let _ = l.push_str(if self.running { "STATUS running" } else { "STATUS idle" });
         if let Some(r) = &self.last {
-            let _ = write!(l, " last: {} dwells", r.positions);
+            let _ = l.push_str(" last: ");
+            let _ = text::write_u64(&mut l, r.positions as u64);
+            let _ = l.push_str(" dwells");
             if r.missed_samples > 0 {
-                let _ = write!(l, " missed_samples {}", r.missed_samples);
+                let _ = l.push_str(" missed_samples ");
+                let _ = text::write_u64(&mut l, r.missed_samples as u64);
             }
             if let Some(a) = r.azimuth {
                 let _ = l.push_str(" psi ");
-                let _ = write_fixed(&mut l, a.psi_deg as f64, 5);
+                let _ = text::write_f32(&mut l, a.psi_deg, 5);
                 let _ = l.push_str(" sigma_arcsec ");
                 let _ = match a.sigma_arcsec {
-                    Some(s) => write_fixed(&mut l, s as f64, 2),
+                    Some(s) => text::write_f32(&mut l, s, 2),
                     // No degrees of freedom: zero would claim a perfect azimuth.
                     None => l.write_str("undefined"),
                 };
             }
             if let Some(u) = r.under_noise {
                 let _ = l.push_str(" under_noise_sigma_arcsec ");
-                let _ = write_fixed(&mut l, u.sigma_psi_deg * 3600.0, 2);
+                let _ = text::write_f32(&mut l, u.sigma_psi_deg * 3600.0, 2);
             }
             if r.target_reached {
                 let _ = l.push_str(" target_reached");
@@ -194,24 +202,25 @@ impl Session {
     pub fn config(&self) -> Reply {
         let c = &self.cfg;
         let mut a = ReplyLine::new();
-        let _ = write!(
-            a,
-            "CONFIG n {} order {} dwell_ms {} settle_ms {} lat ",
-            c.positions,
-            c.order.name(),
-            c.dwell_ms,
-            c.settle_ms
-        );
-        let _ = write_fixed(&mut a, c.latitude_deg as f64, 5);
+        let _ = a.push_str("CONFIG n ");
+        let _ = text::write_u64(&mut a, c.positions as u64);
+        let _ = a.push_str(" order ");
+        let _ = a.push_str(c.order.name());
+        let _ = a.push_str(" dwell_ms ");
+        let _ = text::write_u64(&mut a, c.dwell_ms as u64);
+        let _ = a.push_str(" settle_ms ");
+        let _ = text::write_u64(&mut a, c.settle_ms as u64);
+        let _ = a.push_str(" lat ");
+        let _ = text::write_f32(&mut a, c.latitude_deg, 5);
         let _ = a.push_str(" tilt_limit ");
-        let _ = write_fixed(&mut a, c.tilt_limit_deg as f64, 4);
-        let policy = if c.tilt_policy == TiltPolicy::Refuse {
-            "refuse"
+        let _ = text::write_f32(&mut a, c.tilt_limit_deg, 4);
+        let _ = a.push_str(if c.tilt_policy == TiltPolicy::Refuse {
+            " tilt_policy refuse"
         } else {
-            "warn"
-        };
-        let _ = write!(a, " tilt_policy {policy} target_arcsec ");
-        let _ = write_fixed(&mut a, c.target_arcsec as f64, 2);
+            " tilt_policy warn"
+        });
+        let _ = a.push_str(" target_arcsec ");
+        let _ = text::write_f32(&mut a, c.target_arcsec, 2);
         let mut b = ReplyLine::new();
         let _ = b.push_str("CONFIG noise");
         let m = c.noise;
@@ -223,13 +232,16 @@ impl Session {
             (" gm_tau ", m.gm_tau_s, 2),
         ] {
             let _ = b.push_str(key);
-            let _ = write_fixed(&mut b, v, decimals);
+            let _ = text::write_f32(&mut b, v, decimals);
         }
         let mut c = ReplyLine::new();
-        let _ = write!(c, "CONFIG cal zero_counts ");
-        let _ = write_fixed(&mut c, self.cfg.calibration.zero_counts, 1);
+        let _ = c.push_str("CONFIG cal zero_counts ");
+        let cal = self.cfg.calibration;
+        let zero = text::round_units(cal.zero_micro_counts, Calibration::ZERO_DECIMALS, 1);
+        let _ = text::write_units(&mut c, zero, 1);
         let _ = c.push_str(" dph_per_count ");
-        let _ = write_fixed(&mut c, self.cfg.calibration.dph_per_count, 12);
+        let scale = text::round_units(cal.femto_dph_per_count, Calibration::SCALE_DECIMALS, 12);
+        let _ = text::write_units(&mut c, scale, 12);
         let mut r = Reply::new();
         let _ = r.push(a);
         let _ = r.push(b);
@@ -244,9 +256,16 @@ fn one(l: ReplyLine) -> Reply {
     r
 }
 
-fn line(args: core::fmt::Arguments<'_>) -> Reply {
+fn line(text: &str) -> Reply {
     let mut l = ReplyLine::new();
-    let _ = l.write_fmt(args);
+    let _ = l.push_str(text);
+    one(l)
+}
+
+fn error(e: link::LinkError) -> Reply {
+    let mut l = ReplyLine::new();
+    let _ = l.push_str("ERR ");
+    let _ = e.write_message(&mut l);
     one(l)
 }
 

@@ -4,11 +4,11 @@
 
 use crate::run::{RunConfig, TiltPolicy};
 use nf_model::dwell::Calibration;
-use nf_model::noise::NoiseModel;
+use nf_model::noise_terms::NoiseTerms;
 use nf_model::order::{MAX_VISITS, Order, VisitList};
 
 /// Format of the record; a record of another version is not read.
-pub const VERSION: u8 = 1;
+pub const VERSION: u8 = 2;
 /// The longest record: the fixed fields and a full listed order.
 pub const MAX_BYTES: usize = 128 + 2 * MAX_VISITS;
 
@@ -63,10 +63,10 @@ pub fn encode(cfg: &RunConfig, out: &mut [u8; MAX_BYTES]) -> usize {
         m.gm_sigma_dph,
         m.gm_tau_s,
         m.quantization_arcsec,
-        m.student_t_dof,
-        cfg.calibration.zero_counts,
-        cfg.calibration.dph_per_count,
     ] {
+        w.put(&v.to_le_bytes());
+    }
+    for v in [cfg.calibration.zero_micro_counts, cfg.calibration.femto_dph_per_count] {
         w.put(&v.to_le_bytes());
     }
     w.at
@@ -93,18 +93,17 @@ pub fn decode(bytes: &[u8]) -> Result<RunConfig, SettingsError> {
     let (dwell_ms, settle_ms, sample_rate_hz) = (r.u32()?, r.u32()?, r.u32()?);
     let (latitude_deg, tilt_limit_deg, position_tol_deg, target_arcsec) = (r.f32()?, r.f32()?, r.f32()?, r.f32()?);
     let (refuse, max_corrections, tilt_correction) = (r.u8()?, r.u8()?, r.u8()?);
-    let noise = NoiseModel {
-        arw_deg_rth: r.f64()?,
-        bias_instability_dph: r.f64()?,
-        rrw_dph_rth: r.f64()?,
-        gm_sigma_dph: r.f64()?,
-        gm_tau_s: r.f64()?,
-        quantization_arcsec: r.f64()?,
-        student_t_dof: r.f64()?,
+    let noise = NoiseTerms {
+        arw_deg_rth: r.f32()?,
+        bias_instability_dph: r.f32()?,
+        rrw_dph_rth: r.f32()?,
+        gm_sigma_dph: r.f32()?,
+        gm_tau_s: r.f32()?,
+        quantization_arcsec: r.f32()?,
     };
     let calibration = Calibration {
-        zero_counts: r.f64()?,
-        dph_per_count: r.f64()?,
+        zero_micro_counts: r.i64()?,
+        femto_dph_per_count: r.i64()?,
     };
     if r.at != bytes.len() {
         return Err(SettingsError::Length);
@@ -146,11 +145,7 @@ fn check(c: &RunConfig) -> Result<(), SettingsError> {
     within(c.position_tol_deg > 0.0 && c.position_tol_deg < 1.0, "position_tol")?;
     within((0.0..=36_000.0).contains(&c.target_arcsec), "target_arcsec")?;
     within(c.noise.validate().is_ok(), "noise model")?;
-    let cal = c.calibration;
-    within(
-        cal.zero_counts.is_finite() && cal.dph_per_count.is_finite() && cal.dph_per_count != 0.0,
-        "cal",
-    )
+    within(c.calibration.is_valid(), "cal")
 }
 
 struct Writer<'a> {
@@ -188,8 +183,8 @@ impl Reader<'_> {
     fn f32(&mut self) -> Result<f32, SettingsError> {
         self.take().map(f32::from_le_bytes)
     }
-    fn f64(&mut self) -> Result<f64, SettingsError> {
-        self.take().map(f64::from_le_bytes)
+    fn i64(&mut self) -> Result<i64, SettingsError> {
+        self.take().map(i64::from_le_bytes)
     }
 }
 
@@ -211,7 +206,7 @@ mod tests {
             ..RunConfig::DEFAULT
         };
         cfg.noise.bias_instability_dph = 0.004;
-        cfg.calibration.zero_counts = -1234.5;
+        cfg.calibration.zero_micro_counts = -1_234_500_000;
         let mut buf = [0; MAX_BYTES];
         let n = encode(&cfg, &mut buf);
         assert_eq!(decode(&buf[..n]), Ok(cfg));
@@ -230,9 +225,10 @@ mod tests {
         let mut buf = [0; MAX_BYTES];
         let n = encode(&RunConfig::DEFAULT, &mut buf);
         assert_eq!(decode(&buf[..n - 1]), Err(SettingsError::Length));
-        let mut v2 = buf;
-        v2[0] = 2;
-        assert_eq!(decode(&v2[..n]), Err(SettingsError::Version(2)));
+        // Version 1 kept the calibration in f64.
+        let mut v1 = buf;
+        v1[0] = 1;
+        assert_eq!(decode(&v1[..n]), Err(SettingsError::Version(1)));
         // n = 3 positions.
         let mut bad = buf;
         bad[1] = 3;
@@ -243,5 +239,9 @@ mod tests {
         };
         let n = encode(&lat, &mut buf);
         assert_eq!(decode(&buf[..n]), Err(SettingsError::Invalid("lat")));
+        let mut cal = RunConfig::DEFAULT;
+        cal.calibration.femto_dph_per_count = 0;
+        let n = encode(&cal, &mut buf);
+        assert_eq!(decode(&buf[..n]), Err(SettingsError::Invalid("cal")));
     }
 }

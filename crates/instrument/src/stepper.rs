@@ -1,8 +1,6 @@
 //! Stepper motor through a step/dir driver, with a trapezoidal speed profile; the pulses come
 //! from a hardware timer (`step_train`).
 
-use nf_model::Float;
-
 /// Why a move failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -50,7 +48,8 @@ impl Config {
     /// speed `sqrt(v0^2 + 2 a k)` with `k` the steps to the nearer end, capped at `max_sps`.
     pub fn interval_us(&self, i: u32, steps: u32) -> u32 {
         let k = i.min(steps.saturating_sub(1).saturating_sub(i)) as f32;
-        let v = Float::sqrt(self.start_sps * self.start_sps + 2.0 * self.accel_sps2 * k).min(self.max_sps);
+        // The FPU's VSQRT on the MCU (libm's sqrtf is software), in the step timer's interrupt.
+        let v = nf_model::sqrt(self.start_sps * self.start_sps + 2.0 * self.accel_sps2 * k).min(self.max_sps);
         (1e6 / v.max(1.0)) as u32
     }
 }

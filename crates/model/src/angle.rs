@@ -12,8 +12,10 @@ pub fn sincos_deg<F: Float>(deg: F) -> (F, F) {
     let q = (deg / ninety).round();
     let r = (deg - q * ninety).to_radians();
     let (s, co) = sincos_quarter(r);
-    // q mod 4, also for negative q.
-    let k = q.to_i64().unwrap_or(0).rem_euclid(4);
+    // q mod 4, also for negative q; in floats, which hold every whole q exactly (no f32 to
+    // i64 routine on the MCU).
+    let four = c::<F>(4.0);
+    let k = (q - four * (q / four).floor()).to_u8().unwrap_or(0);
     match k {
         0 => (s, co),
         1 => (co, -s),

@@ -1,7 +1,8 @@
 //! The dwell at one position: exact fixed-point sums of ADC counts.
 //!
 //! 24-bit samples are summed in `i64` and their squares in `i128`, so 2 s at 1 kHz (or days of
-//! samples) lose nothing; the mean and standard deviation are formed once, at the end.
+//! samples) lose nothing; the rates and the variance are formed once, at the end, in `f32` from
+//! the exact sums.
 
 /// Running sums of one dwell, split into four consecutive quarters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -13,18 +14,6 @@ pub struct DwellAccumulator {
     sumsq: i128,
     quarter_sum: [i64; 4],
     quarter_n: [u32; 4],
-}
-
-/// The statistics of a dwell, in ADC counts.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct DwellStats {
-    pub samples: u32,
-    pub mean: f64,
-    /// Sample standard deviation (NaN with fewer than two samples).
-    pub sd: f64,
-    /// Means of the four consecutive quarters (NaN for an empty quarter).
-    pub quarters: [f64; 4],
 }
 
 impl DwellAccumulator {
@@ -50,36 +39,38 @@ impl DwellAccumulator {
         self.n
     }
 
-    pub fn stats(&self) -> DwellStats {
-        let n = self.n as f64;
-        let var = if self.n > 1 {
-            // Exact: n * sum(x^2) - sum(x)^2 in integers.
-            let num = self.n as i128 * self.sumsq - (self.sum as i128) * (self.sum as i128);
-            num as f64 / (n * (n - 1.0))
-        } else {
-            f64::NAN
-        };
-        let mut quarters = [f64::NAN; 4];
-        for (q, m) in quarters.iter_mut().enumerate() {
-            if self.quarter_n[q] > 0 {
-                *m = self.quarter_sum[q] as f64 / self.quarter_n[q] as f64;
-            }
+    /// The sum of the samples, counts.
+    pub fn sum(&self) -> i64 {
+        self.sum
+    }
+
+    /// The sum and the number of the samples of quarter `q` (0 to 3).
+    pub fn quarter(&self, q: usize) -> (i64, u32) {
+        (self.quarter_sum[q], self.quarter_n[q])
+    }
+
+    /// The sample variance, counts^2 (NaN with fewer than two samples): from the exact
+    /// `n sum(x^2) - sum(x)^2`, rounded to `f32` and divided.
+    pub fn variance(&self) -> f32 {
+        if self.n < 2 {
+            return f32::NAN;
         }
-        DwellStats {
-            samples: self.n,
-            mean: if self.n > 0 { self.sum as f64 / n } else { f64::NAN },
-            sd: num_traits::Float::sqrt(var),
-            quarters,
-        }
+        let num = (self.n as i128 * self.sumsq - (self.sum as i128) * (self.sum as i128)) as u128;
+        // Not negative; through two u64 halves: the MCU then needs no 128-bit float conversion.
+        let num = (num >> 64) as u64 as f32 * 18_446_744_073_709_551_616.0 + num as u64 as f32;
+        num / (self.n as f32 * (self.n - 1) as f32)
     }
 }
 
-/// Counts to deg/h: `rate = (counts - zero) * dph_per_count`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Counts to deg/h: `rate = (counts - zero) * scale`, both in fixed point as the host link
+/// sets them, so that the firmware computes a rate without `f64`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Calibration {
-    pub zero_counts: f64,
-    pub dph_per_count: f64,
+    /// ADC counts at zero rate, in units of `10^-ZERO_DECIMALS` count.
+    pub zero_micro_counts: i64,
+    /// deg/h per count, in units of `10^-SCALE_DECIMALS`.
+    pub femto_dph_per_count: i64,
 }
 
 impl Default for Calibration {
@@ -89,23 +80,72 @@ impl Default for Calibration {
 }
 
 impl Calibration {
-    /// A rebalance loop giving +-50 deg/h over the ADC's +-2^23 counts.
+    /// Decimals of [`Calibration::zero_micro_counts`].
+    pub const ZERO_DECIMALS: u32 = 6;
+    /// Decimals of [`Calibration::femto_dph_per_count`].
+    pub const SCALE_DECIMALS: u32 = 15;
+
+    /// Largest zero either way: the ADC's full scale, 2^23 counts.
+    pub const MAX_ZERO_MICRO_COUNTS: i64 = 8_388_608_000_000;
+    /// Largest scale either way: 1 deg/h per count.
+    pub const MAX_FEMTO_DPH_PER_COUNT: i64 = 1_000_000_000_000_000;
+
+    /// A rebalance loop giving +-50 deg/h over the ADC's +-2^23 counts (50 / 2^23 deg/h per
+    /// count, to 1e-15).
     pub const DEFAULT: Calibration = Calibration {
-        zero_counts: 0.0,
-        dph_per_count: 50.0 / 8_388_608.0,
+        zero_micro_counts: 0,
+        femto_dph_per_count: 5_960_464_478,
     };
 
-    pub fn rate_dph(&self, counts: f64) -> f64 {
-        (counts - self.zero_counts) * self.dph_per_count
+    /// Within the ranges above, and a scale that is not zero.
+    pub fn is_valid(&self) -> bool {
+        self.zero_micro_counts.unsigned_abs() <= Self::MAX_ZERO_MICRO_COUNTS as u64
+            && self.femto_dph_per_count != 0
+            && self.femto_dph_per_count.unsigned_abs() <= Self::MAX_FEMTO_DPH_PER_COUNT as u64
     }
 
-    /// The nearest count for a rate (what an ideal ADC would read).
+    /// deg/h per count.
+    pub fn dph_per_count(&self) -> f32 {
+        self.femto_dph_per_count as f32 * 1e-15
+    }
+
+    /// The rate of the mean of `n` samples that sum to `sum` counts (NaN for none). The
+    /// whole counts of the zero come off the integer sum, so a large zero costs no precision.
+    pub fn rate_dph(&self, sum: i64, n: u32) -> f32 {
+        if n == 0 {
+            return f32::NAN;
+        }
+        let unit = 10i64.pow(Self::ZERO_DECIMALS);
+        let (whole, frac) = (
+            self.zero_micro_counts.div_euclid(unit),
+            self.zero_micro_counts.rem_euclid(unit),
+        );
+        let above = sum - whole * n as i64;
+        let counts = above as f32 / n as f32 - frac as f32 / unit as f32;
+        counts * self.dph_per_count()
+    }
+
+    /// A spread of `sd_counts` counts in deg/h.
+    pub fn sd_dph(&self, sd_counts: f32) -> f32 {
+        sd_counts * self.dph_per_count().abs()
+    }
+
+    /// The count an ideal ADC reads at `rate_dph`, unrounded (the twin's ADC, on the host).
     pub fn counts(&self, rate_dph: f64) -> f64 {
-        rate_dph / self.dph_per_count + self.zero_counts
+        rate_dph / self.scale_f64() + self.zero_f64()
     }
 
-    pub fn sd_dph(&self, sd_counts: f64) -> f64 {
-        sd_counts * num_traits::Float::abs(self.dph_per_count)
+    /// The rate a reading of `counts` stands for, in `f64` (the host's replays).
+    pub fn rate_of_counts(&self, counts: f64) -> f64 {
+        (counts - self.zero_f64()) * self.scale_f64()
+    }
+
+    fn scale_f64(&self) -> f64 {
+        self.femto_dph_per_count as f64 / 10i64.pow(Self::SCALE_DECIMALS) as f64
+    }
+
+    fn zero_f64(&self) -> f64 {
+        self.zero_micro_counts as f64 / 10i64.pow(Self::ZERO_DECIMALS) as f64
     }
 }
 
@@ -119,26 +159,54 @@ mod tests {
         for i in 0..2000 {
             acc.push(if i % 2 == 0 { 8_388_607 } else { -8_388_608 + 1 });
         }
-        let s = acc.stats();
-        assert_eq!(s.mean, 0.0);
-        // Alternating +-(2^23 - 1): sd = (2^23 - 1) sqrt(n / (n - 1)).
-        let want = 8_388_607.0 * (2000.0f64 / 1999.0).sqrt();
-        assert!((s.sd - want).abs() < 1e-6, "{} {}", s.sd, want);
-        assert_eq!(s.quarters, [0.0; 4]);
+        assert_eq!((acc.sum(), acc.samples()), (0, 2000));
+        // Alternating +-(2^23 - 1): variance (2^23 - 1)^2 n / (n - 1).
+        let want = 8_388_607.0f64.powi(2) * 2000.0 / 1999.0;
+        assert!((acc.variance() as f64 / want - 1.0).abs() < 2e-7, "{}", acc.variance());
+        assert_eq!(
+            (0..4).map(|q| acc.quarter(q)).collect::<std::vec::Vec<_>>(),
+            [(0, 500); 4]
+        );
     }
 
     #[test]
-    fn f32_running_sum_would_lose_what_this_keeps() {
-        // A mean of 5_000_000.25 counts: f32 cannot hold the sum's fraction, the integers can.
+    fn the_rate_keeps_what_an_f32_mean_would_lose() {
+        // A mean of 5_000_000.25 counts against a zero of 4_999_990.5: f32 cannot hold the
+        // mean's fraction, the integer sum can.
         let mut acc = DwellAccumulator::new(2000);
-        let mut naive = 0.0f32;
         for i in 0..2000 {
-            let x = 5_000_000 + (i % 4 == 0) as i32;
-            acc.push(x);
-            naive += x as f32;
+            acc.push(5_000_000 + (i % 4 == 0) as i32);
         }
-        assert_eq!(acc.stats().mean, 5_000_000.25);
-        assert_ne!((naive / 2000.0) as f64, 5_000_000.25);
+        let cal = Calibration {
+            zero_micro_counts: 4_999_990_500_000,
+            femto_dph_per_count: 1_000_000_000_000_000,
+        };
+        let rate = cal.rate_dph(acc.sum(), acc.samples());
+        assert_eq!(rate, 9.75);
+        let naive = (acc.sum() as f32 / 2000.0 - 4_999_990.5) * cal.dph_per_count();
+        assert_ne!(naive, 9.75);
+    }
+
+    #[test]
+    fn rates_are_within_a_few_f32_roundings_of_exact() {
+        let mut rng = crate::rng::Rng::new(3);
+        for _ in 0..10_000 {
+            let n = 1 + (rng.next_u64() % 20_000) as u32;
+            let mean = rng.uniform(-8_388_608.0, 8_388_607.0);
+            let sum = (mean * n as f64).round() as i64;
+            let cal = Calibration {
+                zero_micro_counts: (rng.uniform(-8.4e12, 8.4e12)).round() as i64,
+                femto_dph_per_count: (rng.uniform(1e3, 1e15)).round() as i64 * if rng.unit() < 0.5 { -1 } else { 1 },
+            };
+            let scale = cal.femto_dph_per_count as f64 * 1e-15;
+            let exact = (sum as f64 / n as f64 - cal.zero_micro_counts as f64 * 1e-6) * scale;
+            let got = cal.rate_dph(sum, n) as f64;
+            // Four roundings of the counts off the zero, two of the scale; and one of the
+            // fractional zero (1e-6 count at most 0.06 ulp of one count).
+            let counts = sum as f64 / n as f64 - cal.zero_micro_counts as f64 * 1e-6;
+            let tol = (counts.abs() * 5.0 * f32::EPSILON as f64 + 1e-7) * scale.abs();
+            assert!((got - exact).abs() <= tol, "{got} vs {exact} ({n} samples, {cal:?})");
+        }
     }
 
     #[test]
@@ -147,24 +215,53 @@ mod tests {
         for x in [1, 1, 2, 2, 3, 3, 4, 4] {
             acc.push(x);
         }
-        assert_eq!(acc.stats().quarters, [1.0, 2.0, 3.0, 4.0]);
+        assert_eq!([0, 1, 2, 3].map(|q| acc.quarter(q)), [(2, 2), (4, 2), (6, 2), (8, 2)]);
         // A short dwell keeps what it has.
         let mut short = DwellAccumulator::new(8);
         for x in [5, 5, 6] {
             short.push(x);
         }
-        let s = short.stats();
-        assert_eq!(s.quarters[..2], [5.0, 6.0]);
-        assert!(s.quarters[2].is_nan() && s.quarters[3].is_nan());
-        assert!(DwellAccumulator::new(4).stats().mean.is_nan());
+        assert_eq!(
+            [0, 1, 2, 3].map(|q| short.quarter(q)),
+            [(10, 2), (6, 1), (0, 0), (0, 0)]
+        );
+        let empty = DwellAccumulator::new(4);
+        assert!(empty.variance().is_nan() && Calibration::DEFAULT.rate_dph(empty.sum(), 0).is_nan());
+        let mut one = DwellAccumulator::new(4);
+        one.push(7);
+        assert!(one.variance().is_nan());
     }
 
     #[test]
     fn calibration_round_trip() {
         let c = Calibration {
-            zero_counts: 1234.0,
-            dph_per_count: 1e-5,
+            zero_micro_counts: 1_234_000_000,
+            femto_dph_per_count: 10_000_000_000,
         };
-        assert!((c.rate_dph(c.counts(10.856)) - 10.856).abs() < 1e-12);
+        let counts = c.counts(10.856);
+        assert!((counts - (1_085_600.0 + 1234.0)).abs() < 1e-6, "{counts}");
+        assert!((c.rate_of_counts(counts) - 10.856).abs() < 1e-12);
+        // The default is 50 / 2^23 deg/h per count to 1e-15.
+        let d = Calibration::DEFAULT;
+        assert!((d.counts(50.0) - 8_388_608.0).abs() < 1e-3);
+        assert_eq!(d.dph_per_count(), (50.0f64 / 8_388_608.0) as f32);
+        assert_eq!(c.sd_dph(2.0), 2.0e-5);
+        assert!(c.is_valid() && d.is_valid());
+        for bad in [
+            Calibration {
+                femto_dph_per_count: 0,
+                ..d
+            },
+            Calibration {
+                zero_micro_counts: -Calibration::MAX_ZERO_MICRO_COUNTS - 1,
+                ..d
+            },
+            Calibration {
+                femto_dph_per_count: i64::MIN,
+                ..d
+            },
+        ] {
+            assert!(!bad.is_valid(), "{bad:?}");
+        }
     }
 }

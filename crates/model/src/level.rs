@@ -57,7 +57,8 @@ pub fn fit_tilt<F: Float>(readings: &[TiltReading<F>]) -> Result<ShaftTilt<F>, F
     let off = |v: F| asin((v / ceta).max(-F::one()).min(F::one())).to_degrees();
     let dof = sol.n as i64 - 4;
     let rms = if dof > 0 {
-        asin(sqrt(sol.rss / c(dof as f64))).to_degrees()
+        // Straight from the integer: no f64 on the way (soft on the M4F).
+        asin(sqrt(sol.rss / F::from(dof).unwrap_or_else(F::nan))).to_degrees()
     } else {
         F::zero()
     };

@@ -16,10 +16,12 @@ pub mod exact;
 pub mod fit;
 pub mod level;
 pub mod noise;
+pub mod noise_terms;
 pub mod order;
 pub mod paper;
 pub mod rng;
 pub mod running;
+pub mod text;
 pub mod uncertainty;
 
 pub use num_traits::Float;
@@ -57,7 +59,7 @@ pub fn sqrt<F: Float>(x: F) -> F {
 /// is unstable (and unset for `thumbv7em-none-eabihf`, whose FPU LLVM knows as `vfp4d16sp`);
 /// `s0` is saved and restored around it.
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
-#[inline]
+#[inline(never)]
 fn vsqrt(x: f32) -> f32 {
     let y: u32;
     // Safety: reads and writes only `s0`, which it restores, and the stack below `sp`.

@@ -55,25 +55,59 @@ pub enum OrderError {
     OddPositions,
 }
 
-impl core::fmt::Display for OrderError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
+impl OrderError {
+    /// What is wrong, for a person; through `write_str` alone (no `core::fmt` on the MCU).
+    pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
+        let num = |w: &mut W, v: u16| crate::text::write_u64(w, v as u64);
+        match *self {
             OrderError::Unknown => {
-                f.write_str("not one of")?;
+                w.write_str("not one of")?;
                 for n in NAMES {
-                    write!(f, " {n}")?;
+                    w.write_char(' ')?;
+                    w.write_str(n)?;
                 }
-                f.write_str(" and not a list of position numbers")
+                w.write_str(" and not a list of position numbers")
             }
-            OrderError::BadEntry { at } => write!(f, "entry {at} of the list is not a position number"),
-            OrderError::TooLong => write!(f, "a listed order holds at most {MAX_VISITS} visits"),
+            OrderError::BadEntry { at } => {
+                w.write_str("entry ")?;
+                num(w, at)?;
+                w.write_str(" of the list is not a position number")
+            }
+            OrderError::TooLong => {
+                w.write_str("a listed order holds at most ")?;
+                num(w, MAX_VISITS as u16)?;
+                w.write_str(" visits")
+            }
             OrderError::OutOfRange { at, position, n } => {
-                write!(f, "entry {at} of the list, position {position}, is not below n = {n}")
+                w.write_str("entry ")?;
+                num(w, at)?;
+                w.write_str(" of the list, position ")?;
+                num(w, position)?;
+                w.write_str(", is not below n = ")?;
+                num(w, n)
             }
-            OrderError::Empty => write!(f, "the listed order is empty"),
-            OrderError::OddPositions => write!(f, "opposite pairs need an even number of positions"),
+            OrderError::Empty => w.write_str("the listed order is empty"),
+            OrderError::OddPositions => w.write_str("opposite pairs need an even number of positions"),
         }
     }
+}
+
+impl core::fmt::Display for OrderError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        self.write_message(f)
+    }
+}
+
+/// A position number as `u16`'s `FromStr` reads it (`[+]digits`), without that code on the MCU.
+fn position_number(word: &[u8]) -> Option<u16> {
+    let digits = word.strip_prefix(b"+").unwrap_or(word);
+    if digits.is_empty() {
+        return None;
+    }
+    digits.iter().try_fold(0u16, |v, &b| {
+        let d = (b as char).to_digit(10)?;
+        v.checked_mul(10)?.checked_add(d as u16)
+    })
 }
 
 /// The names [`Order::parse`] takes, in the order of [`Order::NAMED`].
@@ -221,7 +255,7 @@ impl VisitList {
     pub fn extend(&mut self, csv: &str) -> Result<(), OrderError> {
         for word in csv.split(',') {
             let at = self.len;
-            let p = word.trim_ascii().parse().map_err(|_| OrderError::BadEntry { at })?;
+            let p = position_number(word.trim_ascii().as_bytes()).ok_or(OrderError::BadEntry { at })?;
             self.push(p)?;
         }
         Ok(())
@@ -295,6 +329,49 @@ mod tests {
     }
 
     #[test]
+    fn position_numbers_read_as_u16_reads_them() {
+        let mut rng = crate::rng::Rng::new(4);
+        let alphabet = b"0123456789+- .x";
+        for _ in 0..100_000 {
+            let len = (rng.next_u64() % 8) as usize;
+            let word: std::vec::Vec<u8> = (0..len)
+                .map(|_| alphabet[(rng.next_u64() % alphabet.len() as u64) as usize])
+                .collect();
+            let text = core::str::from_utf8(&word).unwrap();
+            assert_eq!(position_number(&word), text.parse::<u16>().ok(), "{text:?}");
+        }
+        assert_eq!(position_number(b"65535"), Some(65535));
+        assert_eq!(position_number(b"0000000000012"), Some(12));
+    }
+
+    #[test]
+    fn every_error_says_what_is_wrong() {
+        let says = |e: OrderError| std::format!("{e}");
+        assert_eq!(
+            says(OrderError::Unknown),
+            "not one of sequential forward-back opposite-pairs alternating-pairs interleaved and not a list of position numbers"
+        );
+        assert_eq!(
+            says(OrderError::BadEntry { at: 2 }),
+            "entry 2 of the list is not a position number"
+        );
+        assert_eq!(says(OrderError::TooLong), "a listed order holds at most 256 visits");
+        assert_eq!(
+            says(OrderError::OutOfRange {
+                at: 3,
+                position: 400,
+                n: 72
+            }),
+            "entry 3 of the list, position 400, is not below n = 72"
+        );
+        assert_eq!(says(OrderError::Empty), "the listed order is empty");
+        assert_eq!(
+            says(OrderError::OddPositions),
+            "opposite pairs need an even number of positions"
+        );
+    }
+
+    #[test]
     fn named_orders_by_index_are_the_table() {
         for (i, o) in Order::NAMED.iter().enumerate() {
             assert_eq!(Order::named(i), Some(*o));
@@ -325,6 +402,14 @@ mod tests {
         assert_eq!(Order::parse("spiral"), Err(OrderError::Unknown));
         assert_eq!(Order::parse("0,1,x"), Err(OrderError::BadEntry { at: 2 }));
         assert_eq!(Order::parse("0,,1"), Err(OrderError::BadEntry { at: 1 }));
+        assert_eq!(Order::parse("0,+1, 2 ,65535"), Order::parse("0,1,2,65535"));
+        for bad in ["65536", "-0", "1.0", "+", "++1", "1+", "0x1", "1_0", "\u{661}"] {
+            assert_eq!(
+                Order::parse(&std::format!("0,{bad}")),
+                Err(OrderError::BadEntry { at: 1 }),
+                "{bad}"
+            );
+        }
         let mut l = VisitList::EMPTY;
         for _ in 0..MAX_VISITS {
             l.push(1).unwrap();

@@ -1,31 +1,36 @@
-//! The running azimuth under the gyro's noise model, dwell by dwell: a Kalman filter whose
-//! state is the first harmonic (A, B), the bias C (a random walk under rate random walk), a
+//! The running azimuth under the gyro's noise model, dwell by dwell: a filter whose state is
+//! the first harmonic (A, B), the bias C (a random walk under rate random walk), a
 //! Gauss-Markov bias and a bank of Gauss-Markov members that together make flicker. It is
 //! generalised least squares under that model without the covariance matrix of all dwells, so
-//! the firmware can run it in a few hundred bytes and stop a run once the target is reached.
+//! the firmware can run it in a kilobyte and stop a run once the target is reached. The dwell
+//! mean is treated as the bias at its centre (each member's correlation time is at least the
+//! dwell).
 //!
-//! In `f64`: the priors of A, B and C are some 10^9 times the variance of a dwell mean, more
-//! than `f32` resolves. The dwell mean is treated as the bias at its centre (each member's
-//! correlation time is at least the dwell).
+//! A square-root information filter, so that it runs in `f32` on the MCU: the priors of A, B
+//! and C are some 10^9 times the variance of a dwell mean. A covariance filter subtracts nearly
+//! equal numbers of that size at every dwell, more than `f32`'s seven digits hold; information
+//! only adds, and the rotations that keep its square root `R` triangular neither square nor
+//! subtract it. The states run members, Gauss-Markov, C, A, B: the time update acts on the
+//! first ones, and `R`'s last 2x2 block is the information of (A, B) alone.
 
 // Index loops read as the matrix algebra they implement.
 #![allow(clippy::needless_range_loop)]
 
-use crate::EARTH_RATE_DPH;
 use crate::angle::{atan2_deg, sincos_deg};
-use crate::noise::NoiseModel;
-use num_traits::Float;
+use crate::fit::hypot;
+use crate::noise_terms::NoiseTerms;
+use crate::{EARTH_RATE_DPH, Float, c, positive, sqrt};
 
 /// Flicker members: two per decade from the dwell to [`FLICKER_TAU_MAX_S`].
 const MAX_FLICKER: usize = 12;
 const FLICKER_RATIO: f64 = 3.162_277_660_168_379_5;
+/// `ln(FLICKER_RATIO)`, half of `ln(10)`.
+const LN_FLICKER_RATIO: f64 = 1.151_292_546_497_022_8;
 const FLICKER_TAU_MAX_S: f64 = 1.0e5;
-const STATES: usize = 4 + MAX_FLICKER;
-/// State indices: harmonic, bias, Gauss-Markov; flicker members follow.
-const A: usize = 0;
-const B: usize = 1;
-const C: usize = 2;
-const GM: usize = 3;
+const STATES: usize = 5 + MAX_FLICKER;
+/// Seconds per hour, and its root: IEEE units are per hour.
+const S_PER_H: f64 = 3600.0;
+const SQRT_S_PER_H: f64 = 60.0;
 
 /// Why a dwell was not taken.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,7 +38,7 @@ const GM: usize = 3;
 pub enum RunningError {
     /// The noise model is not valid, or the dwell is not positive.
     BadModel,
-    /// A non-finite angle, time, rate or variance.
+    /// A non-finite angle or rate, or a variance that is not a positive number.
     NonFinite,
     /// Time went backwards.
     TimeOrder,
@@ -41,150 +46,240 @@ pub enum RunningError {
 
 /// The filter.
 #[derive(Debug, Clone, Copy)]
-pub struct RunningGls {
-    x: [f64; STATES],
-    p: [[f64; STATES]; STATES],
+pub struct RunningGls<F> {
+    /// Upper-triangular square root of the information matrix, rows of `dim` states, with
+    /// `R x = z` in column `dim`.
+    r: [[F; STATES + 1]; STATES],
+    dim: usize,
     /// Flicker members in use, their correlation times and variance each.
     members: usize,
-    tau_s: [f64; MAX_FLICKER],
-    member_var: f64,
-    model: NoiseModel,
-    dwell_s: f64,
-    t_last_s: Option<f64>,
+    tau_s: [F; MAX_FLICKER],
+    member_var: F,
+    /// The Gauss-Markov bias (state `members`), when there is one.
+    gm: Option<Markov<F>>,
+    /// Variance rate of the bias random walk, (deg/h)^2 per s.
+    rrw_var_per_s: F,
+    /// Variance of a dwell mean's independent part under the model, (deg/h)^2.
+    model_white_var: F,
+    t_last_us: Option<u64>,
     dwells: u32,
+}
+
+/// A Gauss-Markov state: its variance and correlation time.
+#[derive(Debug, Clone, Copy)]
+struct Markov<F> {
+    var: F,
+    tau_s: F,
 }
 
 /// The azimuth so far.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Running {
-    pub psi_deg: f64,
-    pub sigma_psi_deg: f64,
-    pub amplitude_dph: f64,
+pub struct Running<F> {
+    pub psi_deg: F,
+    pub sigma_psi_deg: F,
+    pub amplitude_dph: F,
     pub dwells: u32,
 }
 
-impl RunningGls {
-    /// A filter for dwells of `dwell_s` under `model`.
-    pub fn new(model: &NoiseModel, dwell_s: f64) -> Result<Self, RunningError> {
-        if model.validate().is_err() || !(dwell_s > 0.0 && dwell_s.is_finite()) {
+/// `x` in the working float type.
+fn of<F: Float>(x: f32) -> F {
+    F::from(x).unwrap_or_else(F::nan)
+}
+
+/// Rotates rows `a` and `b` from column `from` on so that `b[from]` becomes zero (a Givens
+/// rotation: lengths kept; `hypot` rescales where the squares would leave the float's range).
+fn rotate<F: Float>(a: &mut [F], b: &mut [F], from: usize) {
+    let (x, y) = (a[from], b[from]);
+    if y == F::zero() {
+        return;
+    }
+    let h = hypot(x, y);
+    let (cos, sin) = (x / h, y / h);
+    for k in from..a.len() {
+        let (u, v) = (a[k], b[k]);
+        a[k] = cos * u + sin * v;
+        b[k] = cos * v - sin * u;
+    }
+    b[from] = F::zero();
+}
+
+impl<F: Float> RunningGls<F> {
+    /// A filter for dwells of `dwell_s` under the noise `terms`.
+    pub fn new(terms: &NoiseTerms, dwell_s: F) -> Result<Self, RunningError> {
+        if terms.validate().is_err() || !(positive(dwell_s) && dwell_s.is_finite()) {
             return Err(RunningError::BadModel);
         }
+        let (b, rrw) = (of::<F>(terms.bias_instability_dph), of::<F>(terms.rrw_dph_rth));
+        let (w, q) = (
+            of::<F>(terms.arw_deg_rth) * c(SQRT_S_PER_H),
+            of::<F>(terms.quantization_arcsec),
+        );
+        let gm_sigma = of::<F>(terms.gm_sigma_dph);
         let mut f = RunningGls {
-            x: [0.0; STATES],
-            p: [[0.0; STATES]; STATES],
+            r: [[F::zero(); STATES + 1]; STATES],
+            dim: 0,
             members: 0,
-            tau_s: [0.0; MAX_FLICKER],
+            tau_s: [F::zero(); MAX_FLICKER],
             // Equal variances (B^2 / pi) ln r give the flicker PSD over the bank's band, with
             // the Allan floor 0.664 B.
-            member_var: model.bias_instability_dph.powi(2) / core::f64::consts::PI * FLICKER_RATIO.ln(),
-            model: *model,
-            dwell_s,
-            t_last_s: None,
+            member_var: b * b / c(core::f64::consts::PI) * c(LN_FLICKER_RATIO),
+            // A term too small for the float type is no term.
+            gm: (positive(gm_sigma * gm_sigma)).then(|| Markov {
+                var: gm_sigma * gm_sigma,
+                tau_s: of(terms.gm_tau_s),
+            }),
+            rrw_var_per_s: rrw * rrw / c(S_PER_H),
+            model_white_var: w * w / dwell_s + c::<F>(2.0) * q * q / (dwell_s * dwell_s),
+            t_last_us: None,
             dwells: 0,
         };
-        if model.bias_instability_dph > 0.0 {
+        if positive(f.member_var) {
             let mut tau = dwell_s;
-            while f.members < MAX_FLICKER && tau < FLICKER_TAU_MAX_S {
+            while f.members < MAX_FLICKER && tau < c(FLICKER_TAU_MAX_S) {
                 f.tau_s[f.members] = tau;
                 f.members += 1;
-                tau *= FLICKER_RATIO;
+                tau = tau * c(FLICKER_RATIO);
             }
         }
-        // The harmonic within twice the Earth rate, the bias within 100 deg/h: loose priors.
-        f.p[A][A] = (2.0 * EARTH_RATE_DPH).powi(2);
-        f.p[B][B] = f.p[A][A];
-        f.p[C][C] = 1.0e4;
-        f.p[GM][GM] = model.gm_sigma_dph.powi(2);
-        for i in 0..f.members {
-            f.p[4 + i][4 + i] = f.member_var;
+        // Priors, as 1/sd on the diagonal: the members and the Gauss-Markov bias at their
+        // variance, the bias C within 100 deg/h and the harmonic within twice the Earth rate.
+        let mut prior = [F::zero(); STATES];
+        prior[..f.members].fill(F::one() / sqrt(f.member_var));
+        f.dim = f.members;
+        if f.gm.is_some() {
+            prior[f.dim] = F::one() / gm_sigma;
+            f.dim += 1;
+        }
+        prior[f.dim] = c(0.01);
+        prior[f.dim + 1] = c(0.5 / EARTH_RATE_DPH);
+        prior[f.dim + 2] = prior[f.dim + 1];
+        f.dim += 3;
+        for i in 0..f.dim {
+            f.r[i][i] = prior[i];
         }
         Ok(f)
     }
 
-    fn dim(&self) -> usize {
-        4 + self.members
+    /// Index of the bias C; A and B follow it.
+    fn c_index(&self) -> usize {
+        self.dim - 3
     }
 
-    /// Carries the state over `dt_s`: the bias walks, the Markov parts decay.
-    fn predict(&mut self, dt_s: f64) {
-        let d = self.dim();
-        let mut phi = [1.0; STATES];
-        let mut q = [0.0; STATES];
-        q[C] = self.model.rrw_dph_rts().powi(2) * dt_s;
-        if self.model.gm_sigma_dph > 0.0 {
-            phi[GM] = Float::exp(-dt_s / self.model.gm_tau_s);
-            q[GM] = self.model.gm_sigma_dph.powi(2) * (1.0 - phi[GM] * phi[GM]);
+    /// States the time update changes: the members, the Gauss-Markov bias, and C when it walks.
+    fn dynamic(&self) -> usize {
+        self.c_index() + positive(self.rrw_var_per_s) as usize
+    }
+
+    /// Decay and process noise of dynamic state `k` over `dt_s`.
+    fn transition(&self, k: usize, dt_s: F) -> (F, F) {
+        let markov = |var: F, tau: F| {
+            let phi = (-dt_s / tau).exp();
+            (phi, var * (F::one() - phi * phi))
+        };
+        if k < self.members {
+            markov(self.member_var, self.tau_s[k])
+        } else if k < self.c_index() {
+            self.gm.map_or((F::one(), F::zero()), |g| markov(g.var, g.tau_s))
+        } else {
+            (F::one(), self.rrw_var_per_s * dt_s)
         }
-        for i in 0..self.members {
-            phi[4 + i] = Float::exp(-dt_s / self.tau_s[i]);
-            q[4 + i] = self.member_var * (1.0 - phi[4 + i] * phi[4 + i]);
+    }
+
+    /// Carries the state over `dt_s`: the bias walks, the Markov parts decay. Each dynamic
+    /// state in turn is brought to the front, updated there, and moved to the back of the
+    /// dynamic block; after all of them the order is the original one.
+    fn predict(&mut self, dt_s: F) {
+        let m = self.dynamic();
+        for k in 0..m {
+            let (phi, q) = self.transition(k, dt_s);
+            self.update_front(phi, q);
+            self.cycle_front(m);
         }
-        for i in 0..d {
-            self.x[i] *= phi[i];
-            for j in 0..d {
-                self.p[i][j] *= phi[i] * phi[j];
+    }
+
+    /// `x0' = phi x0 + w`, `w` of variance `q`: the old `x0` is eliminated between row 0 and
+    /// the process noise's row `(x0' - phi x0) / sqrt(q) = 0`. Row 0 is the only one with `x0`.
+    fn update_front(&mut self, phi: F, q: F) {
+        // An exact transition (a variance below the float's range) as the stiffest one.
+        let sd = sqrt(q.max(F::min_positive_value()));
+        let old = -phi / sd;
+        let h = hypot(self.r[0][0], old);
+        let (cos, sin) = (self.r[0][0] / h, old / h);
+        // The noise row after the rotation: no old x0, `cos / sd` on the new one, and the rest
+        // of row 0 turned by `-sin`.
+        self.r[0][0] = cos / sd;
+        for j in 1..=self.dim {
+            self.r[0][j] = -sin * self.r[0][j];
+        }
+    }
+
+    /// Moves state 0 behind the first `m - 1` states and makes `R` triangular again: its
+    /// columns turn left by one, and rotations of rows `p, p + 1` clear the subdiagonal.
+    fn cycle_front(&mut self, m: usize) {
+        for row in &mut self.r[..m] {
+            // Swaps, not `rotate_left`, whose `memmove` is 1.5 KiB on the MCU.
+            for j in 1..m {
+                row.swap(j - 1, j);
             }
-            self.p[i][i] += q[i];
+        }
+        for p in 0..m.saturating_sub(1) {
+            let (top, bottom) = self.r.split_at_mut(p + 1);
+            rotate(&mut top[p][..=self.dim], &mut bottom[0][..=self.dim], p);
         }
     }
 
-    /// Takes one dwell mean: at `gamma_deg`, centred at `t_s`, `rate_dph` with the tilt's
-    /// vertical Earth rate already removed. `white_var` is the variance of its independent
-    /// part, (deg/h)^2; `None` takes it from the noise model.
-    pub fn add(&mut self, gamma_deg: f64, t_s: f64, rate_dph: f64, white_var: Option<f64>) -> Result<(), RunningError> {
-        let r = white_var.unwrap_or_else(|| self.model.independent_var(self.dwell_s));
-        if !(gamma_deg.is_finite() && t_s.is_finite() && rate_dph.is_finite() && r.is_finite() && r >= 0.0) {
+    /// Takes one dwell mean: at `gamma_deg`, centred at `t_us` (microseconds on any clock),
+    /// `rate_dph` with the tilt's vertical Earth rate already removed. `white_var` is the
+    /// variance of its independent part, (deg/h)^2; `None` takes it from the noise model.
+    pub fn add(&mut self, gamma_deg: F, t_us: u64, rate_dph: F, white_var: Option<F>) -> Result<(), RunningError> {
+        let var = white_var.unwrap_or(self.model_white_var);
+        if !(gamma_deg.is_finite() && rate_dph.is_finite() && positive(var) && var.is_finite()) {
             return Err(RunningError::NonFinite);
         }
-        if let Some(t0) = self.t_last_s {
-            if t_s < t0 {
+        if let Some(t0) = self.t_last_us {
+            if t_us < t0 {
                 return Err(RunningError::TimeOrder);
             }
-            self.predict(t_s - t0);
-        }
-        self.t_last_s = Some(t_s);
-        let d = self.dim();
-        // f32 trigonometry: the firmware then carries no f64 sine, and 1e-7 of the Earth rate
-        // is far below any gyro's noise.
-        let (s, c) = sincos_deg(gamma_deg as f32);
-        let (s, c) = (s as f64, c as f64);
-        let mut h = [1.0; STATES];
-        h[A] = c;
-        h[B] = s;
-        let mut ph = [0.0; STATES];
-        for i in 0..d {
-            ph[i] = (0..d).map(|j| self.p[i][j] * h[j]).sum();
-        }
-        let innovation_var = (0..d).map(|i| h[i] * ph[i]).sum::<f64>() + r;
-        let predicted: f64 = (0..d).map(|i| h[i] * self.x[i]).sum();
-        let k: [f64; STATES] = core::array::from_fn(|i| if i < d { ph[i] / innovation_var } else { 0.0 });
-        for i in 0..d {
-            self.x[i] += k[i] * (rate_dph - predicted);
-        }
-        // P - K S K^T, kept symmetric.
-        for i in 0..d {
-            for j in 0..=i {
-                let v = self.p[i][j] - k[i] * k[j] * innovation_var;
-                self.p[i][j] = v;
-                self.p[j][i] = v;
+            if t_us > t0 {
+                let dt_us = F::from(t_us - t0).unwrap_or_else(F::infinity);
+                self.predict(dt_us * c(1e-6));
             }
+        }
+        self.t_last_us = Some(t_us);
+        // The dwell as a row of the information: (h . x - rate) / sd, h = (1, ..., 1, cos, sin).
+        let sd = sqrt(var);
+        let (s, co) = sincos_deg(gamma_deg);
+        let mut row = [F::zero(); STATES + 1];
+        let d = self.dim;
+        row[..d].fill(F::one() / sd);
+        row[d - 2] = co / sd;
+        row[d - 1] = s / sd;
+        row[d] = rate_dph / sd;
+        for p in 0..d {
+            rotate(&mut self.r[p][..=d], &mut row[..=d], p);
         }
         self.dwells += 1;
         Ok(())
     }
 
     /// The azimuth and its standard error under the noise model.
-    pub fn azimuth(&self) -> Running {
-        let (a, b) = (self.x[A], self.x[B]);
+    pub fn azimuth(&self) -> Running<F> {
+        let (ia, ib, d) = (self.dim - 2, self.dim - 1, self.dim);
+        // (A, B)'s own information block [[ra, rab], [0, rb]] and its right-hand side.
+        let (ra, rab, rb) = (self.r[ia][ia], self.r[ia][ib], self.r[ib][ib]);
+        let b = self.r[ib][d] / rb;
+        let a = (self.r[ia][d] - rab * b) / ra;
         let h2 = a * a + b * b;
-        // psi = atan2(-B, A): its gradient in (A, B) is (B, -A) / H^2.
+        // psi = atan2(-B, A): its gradient g in (A, B) is (B, -A) / H^2, and its variance
+        // |R^-T g|^2.
         let (ga, gb) = (b / h2, -a / h2);
-        let var = ga * ga * self.p[A][A] + 2.0 * ga * gb * self.p[A][B] + gb * gb * self.p[B][B];
+        let ua = ga / ra;
+        let ub = (gb - rab * ua) / rb;
         Running {
-            psi_deg: atan2_deg(-b as f32, a as f32) as f64,
-            sigma_psi_deg: Float::sqrt(var.max(0.0)).to_degrees(),
-            amplitude_dph: Float::sqrt(h2),
+            psi_deg: atan2_deg(-b, a),
+            sigma_psi_deg: sqrt(ua * ua + ub * ub).to_degrees(),
+            amplitude_dph: sqrt(h2),
             dwells: self.dwells,
         }
     }
@@ -193,108 +288,132 @@ impl RunningGls {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::noise::NoiseModel;
+    use crate::rng::Rng;
     use std::eprintln;
     use std::vec::Vec;
 
     const LAT: f64 = 43.8;
+    const DWELL_S: f64 = 2.0;
 
     fn h() -> f64 {
         EARTH_RATE_DPH * LAT.to_radians().cos()
     }
 
-    /// Dwell centres of a sequential run: `n` dwells of `dwell_s`, one every `cycle_s`.
-    fn run(n: usize, dwell_s: f64, cycle_s: f64) -> Vec<(f64, f64)> {
+    /// A sequential run: `n` dwells of [`DWELL_S`], one every `cycle_s`: (gamma, centre in us).
+    fn schedule(n: usize, cycle_s: f64) -> Vec<(f64, u64)> {
         (0..n)
-            .map(|k| (k as f64 * 360.0 / n as f64, k as f64 * cycle_s + dwell_s / 2.0))
+            .map(|k| {
+                let t_s = k as f64 * cycle_s + DWELL_S / 2.0;
+                (k as f64 * 360.0 / n as f64, (t_s * 1e6).round() as u64)
+            })
             .collect()
     }
 
-    fn filter(model: &NoiseModel, dwell_s: f64, psi: f64, dwells: &[(f64, f64)]) -> Running {
-        let mut f = RunningGls::new(model, dwell_s).unwrap();
-        for &(g, t) in dwells {
-            let rate = h() * (g + psi).to_radians().cos() + 3.0;
-            f.add(g, t, rate, None).unwrap();
+    fn wrap_180(d: f64) -> f64 {
+        (d + 180.0).rem_euclid(360.0) - 180.0
+    }
+
+    /// The dense generalised covariance of the dwell means (a constant added makes it positive
+    /// definite and changes nothing beside C), as its Cholesky factor.
+    fn dense_cholesky(model: &NoiseModel, dwells: &[(f64, u64)]) -> Vec<Vec<f64>> {
+        let n = dwells.len();
+        let t = |i: usize| dwells[i].1 as f64 * 1e-6;
+        let mut l: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| 0.01 + model.mean_cov((t(i) - t(j)).abs(), DWELL_S, DWELL_S, i == j))
+                    .collect()
+            })
+            .collect();
+        for j in 0..n {
+            let d = (l[j][j] - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>()).sqrt();
+            l[j][j] = d;
+            for i in j + 1..n {
+                l[i][j] = (l[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>()) / d;
+            }
+            for i in 0..j {
+                l[i][j] = 0.0;
+            }
+        }
+        l
+    }
+
+    /// Rates of an instrument at `psi` with a bias of 3 deg/h, and noise of the model's
+    /// covariance drawn with `rng` (none without).
+    fn rates(model: &NoiseModel, psi: f64, dwells: &[(f64, u64)], rng: Option<&mut Rng>) -> Vec<f64> {
+        let truth = dwells.iter().map(|&(g, _)| h() * (g + psi).to_radians().cos() + 3.0);
+        let Some(rng) = rng else { return truth.collect() };
+        let l = dense_cholesky(model, dwells);
+        let z: Vec<f64> = (0..dwells.len()).map(|_| rng.gauss()).collect();
+        truth
+            .enumerate()
+            .map(|(i, r)| r + (0..=i).map(|k| l[i][k] * z[k]).sum::<f64>())
+            .collect()
+    }
+
+    /// The batch fit, computed independently: generalised least squares of (C, cos, sin) under
+    /// the dense covariance; the azimuth and its sigma, deg.
+    fn dense_gls(model: &NoiseModel, dwells: &[(f64, u64)], y: &[f64]) -> (f64, f64) {
+        let n = dwells.len();
+        let l = dense_cholesky(model, dwells);
+        // Whitened columns and data: L^-1 X, L^-1 y.
+        let whiten = |v: Vec<f64>| {
+            let mut z = v;
+            for i in 0..n {
+                z[i] = (z[i] - (0..i).map(|k| l[i][k] * z[k]).sum::<f64>()) / l[i][i];
+            }
+            z
+        };
+        let col = |c: usize| {
+            whiten(
+                dwells
+                    .iter()
+                    .map(|&(g, _)| [1.0, g.to_radians().cos(), g.to_radians().sin()][c])
+                    .collect(),
+            )
+        };
+        let (x, wy) = ([col(0), col(1), col(2)], whiten(y.to_vec()));
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+        let m: Vec<Vec<f64>> = (0..3).map(|a| (0..3).map(|b| dot(&x[a], &x[b])).collect()).collect();
+        let rhs: Vec<f64> = (0..3).map(|a| dot(&x[a], &wy)).collect();
+        // The inverse of the 3x3 information by cofactors.
+        let cof = |i: usize, j: usize| {
+            let (r, c): (Vec<usize>, Vec<usize>) = (
+                (0..3).filter(|&k| k != i).collect(),
+                (0..3).filter(|&k| k != j).collect(),
+            );
+            let minor = m[r[0]][c[0]] * m[r[1]][c[1]] - m[r[0]][c[1]] * m[r[1]][c[0]];
+            if (i + j).is_multiple_of(2) { minor } else { -minor }
+        };
+        let det: f64 = (0..3).map(|j| m[0][j] * cof(0, j)).sum();
+        let inv = |i: usize, j: usize| cof(j, i) / det;
+        let beta: Vec<f64> = (0..3).map(|i| (0..3).map(|j| inv(i, j) * rhs[j]).sum()).collect();
+        let (a, b) = (beta[1], beta[2]);
+        let h2 = a * a + b * b;
+        let (ga, gb) = (b / h2, -a / h2);
+        let var = ga * ga * inv(1, 1) + 2.0 * ga * gb * inv(1, 2) + gb * gb * inv(2, 2);
+        ((-b).atan2(a).to_degrees().rem_euclid(360.0), var.sqrt().to_degrees())
+    }
+
+    fn filter<F: Float>(model: &NoiseModel, dwells: &[(f64, u64)], y: &[f64]) -> Running<F> {
+        let mut f = RunningGls::<F>::new(&model.into(), F::from(DWELL_S).unwrap()).unwrap();
+        for (&(g, t_us), &r) in dwells.iter().zip(y) {
+            f.add(F::from(g).unwrap(), t_us, F::from(r).unwrap(), None).unwrap();
         }
         f.azimuth()
     }
 
-    /// GLS sigma of psi from the dense covariance of the model's closed form (a generalised
-    /// covariance: a constant added makes it positive definite and changes nothing beside C).
-    fn dense_sigma_deg(model: &NoiseModel, dwell_s: f64, dwells: &[(f64, f64)]) -> f64 {
-        let n = dwells.len();
-        let mut cov: Vec<Vec<f64>> = (0..n)
-            .map(|i| {
-                (0..n)
-                    .map(|j| 0.01 + model.mean_cov((dwells[i].1 - dwells[j].1).abs(), dwell_s, dwell_s, i == j))
-                    .collect()
-            })
-            .collect();
-        // Cholesky, then the information matrix X^T cov^-1 X of (C, cos, sin).
-        for j in 0..n {
-            let d = (cov[j][j] - (0..j).map(|k| cov[j][k] * cov[j][k]).sum::<f64>()).sqrt();
-            cov[j][j] = d;
-            for i in j + 1..n {
-                cov[i][j] = (cov[i][j] - (0..j).map(|k| cov[i][k] * cov[j][k]).sum::<f64>()) / d;
-            }
-        }
-        let cols: Vec<Vec<f64>> = (0..3)
-            .map(|c| {
-                let mut z: Vec<f64> = dwells
-                    .iter()
-                    .map(|&(g, _)| [1.0, g.to_radians().cos(), g.to_radians().sin()][c])
-                    .collect();
-                for i in 0..n {
-                    z[i] = (z[i] - (0..i).map(|k| cov[i][k] * z[k]).sum::<f64>()) / cov[i][i];
-                }
-                z
-            })
-            .collect();
-        let info = |a: usize, b: usize| (0..n).map(|i| cols[a][i] * cols[b][i]).sum::<f64>();
-        let m = [
-            [info(0, 0), info(0, 1), info(0, 2)],
-            [info(1, 0), info(1, 1), info(1, 2)],
-            [info(2, 0), info(2, 1), info(2, 2)],
-        ];
-        let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-        let var_a = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
-        let var_b = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det;
-        let cov_ab = -(m[0][0] * m[1][2] - m[0][2] * m[1][0]) / det;
-        let psi: f64 = 65.5;
-        // psi = atan2(-B, A) at A = H cos psi, B = -H sin psi.
-        let (ga, gb) = (-psi.to_radians().sin() / h(), -psi.to_radians().cos() / h());
-        (ga * ga * var_a + 2.0 * ga * gb * cov_ab + gb * gb * var_b)
-            .sqrt()
-            .to_degrees()
-    }
-
-    #[test]
-    fn white_noise_gives_the_least_squares_sigma_and_the_exact_azimuth() {
-        let m = NoiseModel::white(0.005, 2.0);
-        let r = filter(&m, 2.0, 65.5, &run(72, 2.0, 2.6));
-        // f32 trigonometry: to 0.04".
-        assert!((r.psi_deg - 65.5).abs() < 1e-5, "{}", r.psi_deg);
-        assert!((r.amplitude_dph / h() - 1.0).abs() < 1e-6);
-        let ls = (2.0f64 / 72.0).sqrt() * 0.005 / h();
-        assert!(
-            (r.sigma_psi_deg.to_radians() / ls - 1.0).abs() < 1e-6,
-            "{} vs {ls}",
-            r.sigma_psi_deg.to_radians()
-        );
-        assert_eq!(r.dwells, 72);
-    }
-
-    #[test]
-    fn coloured_noise_gives_the_dense_gls_sigma() {
-        let white = NoiseModel::white(0.005, 2.0);
-        let cases = [
+    fn models() -> [(&'static str, NoiseModel); 5] {
+        let white = NoiseModel::white(0.005, DWELL_S);
+        [
+            ("white", white),
             (
                 "flicker",
                 NoiseModel {
                     bias_instability_dph: 0.004,
                     ..white
                 },
-                0.05,
             ),
             (
                 "random walk",
@@ -302,7 +421,6 @@ mod tests {
                     rrw_dph_rth: 0.3,
                     ..white
                 },
-                0.03,
             ),
             (
                 "Gauss-Markov",
@@ -311,28 +429,137 @@ mod tests {
                     gm_tau_s: 60.0,
                     ..white
                 },
-                0.03,
             ),
-        ];
-        for (name, m, tol) in cases {
-            let dwells = run(48, 2.0, 2.8);
-            let kalman = filter(&m, 2.0, 65.5, &dwells).sigma_psi_deg;
-            let dense = dense_sigma_deg(&m, 2.0, &dwells);
-            eprintln!("{name}: Kalman / dense GLS {:.4}", kalman / dense);
-            assert!((kalman / dense - 1.0).abs() < tol, "{name}: {kalman} vs {dense}");
+            (
+                "all of them",
+                NoiseModel {
+                    bias_instability_dph: 0.003,
+                    rrw_dph_rth: 0.1,
+                    gm_sigma_dph: 0.01,
+                    gm_tau_s: 30.0,
+                    quantization_arcsec: 0.2,
+                    ..white
+                },
+            ),
+        ]
+    }
+
+    #[test]
+    fn white_noise_gives_the_least_squares_sigma_and_the_exact_azimuth() {
+        let m = NoiseModel::white(0.005, DWELL_S);
+        let dwells = schedule(72, 2.6);
+        let y = rates(&m, 65.5, &dwells, None);
+        let ls = (DWELL_S / 72.0).sqrt() * 0.005 / h();
+        let f64_ = filter::<f64>(&m, &dwells, &y);
+        assert!((f64_.psi_deg - 65.5).abs() < 1e-9, "{}", f64_.psi_deg);
+        assert!((f64_.amplitude_dph / h() - 1.0).abs() < 1e-9);
+        assert!((f64_.sigma_psi_deg.to_radians() / ls - 1.0).abs() < 1e-6);
+        // In f32: the azimuth to 0.05" (one unit in f32's last place at 65.5 deg is 0.027"),
+        // sigma to 1e-5 of itself.
+        let f32_ = filter::<f32>(&m, &dwells, &y);
+        assert!((f32_.psi_deg as f64 - 65.5).abs() * 3600.0 < 0.05, "{}", f32_.psi_deg);
+        assert!((f32_.amplitude_dph as f64 / h() - 1.0).abs() < 1e-5);
+        let r = (f32_.sigma_psi_deg as f64).to_radians() / ls;
+        assert!((r - 1.0).abs() < 1e-5, "{r}");
+        assert_eq!(f32_.dwells, 72);
+    }
+
+    #[test]
+    fn coloured_noise_gives_the_dense_gls_sigma() {
+        // The filter takes a dwell mean as the bias at its centre; the dense GLS has the
+        // exact covariance of window means.
+        for ((name, m), tol) in models().into_iter().zip([1e-6, 0.05, 0.03, 0.03, 0.05]) {
+            let dwells = schedule(48, 2.8);
+            let y = rates(&m, 65.5, &dwells, None);
+            let (_, dense) = dense_gls(&m, &dwells, &y);
+            for (float, sigma) in [
+                ("f64", filter::<f64>(&m, &dwells, &y).sigma_psi_deg),
+                ("f32", filter::<f32>(&m, &dwells, &y).sigma_psi_deg as f64),
+            ] {
+                eprintln!("{name} {float}: filter / dense GLS {:.5}", sigma / dense);
+                assert!((sigma / dense - 1.0).abs() < tol, "{name} {float}: {sigma} vs {dense}");
+            }
         }
     }
 
     #[test]
+    fn over_many_seeds_f32_follows_f64_and_both_the_batch_fit() {
+        for (name, m) in models() {
+            let (mut worst_f32, mut worst_dense, mut worst_sigma) = (f64::MIN, 0.0f64, 0.0f64);
+            for seed in 0..40 {
+                let mut rng = Rng::new(seed);
+                let psi = rng.uniform(0.0, 360.0);
+                let n = [24, 36, 72][seed as usize % 3];
+                let dwells = schedule(n, rng.uniform(2.2, 6.0));
+                let y = rates(&m, psi, &dwells, Some(&mut rng));
+                let (a, b) = (filter::<f64>(&m, &dwells, &y), filter::<f32>(&m, &dwells, &y));
+                let (dense_psi, dense_sigma) = dense_gls(&m, &dwells, &y);
+                // Beyond one unit of f32's last place near 360 deg (0.11"), in units of sigma.
+                let beyond_ulp = wrap_180(b.psi_deg as f64 - a.psi_deg).abs() * 3600.0 - 0.11;
+                worst_f32 = worst_f32.max(beyond_ulp / (a.sigma_psi_deg * 3600.0));
+                worst_sigma = worst_sigma.max((b.sigma_psi_deg as f64 / a.sigma_psi_deg - 1.0).abs());
+                worst_dense = worst_dense.max(wrap_180(a.psi_deg - dense_psi).abs() / dense_sigma);
+            }
+            eprintln!(
+                "{name}: f32 - f64 {worst_f32:.1e} sigma beyond 0.11\", sigmas {worst_sigma:.1e} apart; f64 - dense GLS {worst_dense:.3} sigma"
+            );
+            assert!(worst_f32 < 1e-3 && worst_sigma < 1e-5, "{name}");
+            assert!(worst_dense < 0.1, "{name}");
+        }
+    }
+
+    #[test]
+    fn long_gaps_short_gaps_and_extreme_variances_stay_finite() {
+        let m = models()[4].1;
+        let mut f = RunningGls::<f32>::new(&(&m).into(), 2.0).unwrap();
+        let mut t = 0u64;
+        for (k, gap_us) in [0u64, 1, 1_000_000_000_000, 2_600_000, 1, 0, 10_000_000]
+            .into_iter()
+            .enumerate()
+        {
+            t += gap_us;
+            let g = k as f32 * 60.0;
+            let rate = (h() * (g as f64 + 65.5).to_radians().cos()) as f32;
+            let var = [None, Some(1e-30), Some(1e6), None, Some(f32::MIN_POSITIVE), None, None][k];
+            f.add(g, t, rate, var).unwrap();
+            let a = f.azimuth();
+            assert!(a.sigma_psi_deg.is_finite() && a.psi_deg.is_finite(), "{k}: {a:?}");
+        }
+        let a = f.azimuth();
+        assert!((a.psi_deg - 65.5).abs() < 1e-3, "{a:?}");
+    }
+
+    #[test]
     fn bad_input_is_refused() {
-        let m = NoiseModel::white(0.005, 2.0);
-        assert_eq!(RunningGls::new(&m, 0.0).unwrap_err(), RunningError::BadModel);
-        let bad = NoiseModel { gm_sigma_dph: 1.0, ..m };
-        assert_eq!(RunningGls::new(&bad, 2.0).unwrap_err(), RunningError::BadModel);
-        let mut f = RunningGls::new(&m, 2.0).unwrap();
-        assert_eq!(f.add(f64::NAN, 1.0, 1.0, None), Err(RunningError::NonFinite));
-        assert_eq!(f.add(0.0, 1.0, 1.0, Some(-1.0)), Err(RunningError::NonFinite));
-        f.add(0.0, 5.0, 1.0, None).unwrap();
-        assert_eq!(f.add(5.0, 4.0, 1.0, None), Err(RunningError::TimeOrder));
+        let m = NoiseTerms::from(&NoiseModel::white(0.005, 2.0));
+        for dwell in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(RunningGls::new(&m, dwell).unwrap_err(), RunningError::BadModel);
+        }
+        let bad = NoiseTerms { gm_sigma_dph: 1.0, ..m };
+        assert_eq!(RunningGls::new(&bad, 2.0f32).unwrap_err(), RunningError::BadModel);
+        let bad = NoiseTerms {
+            arw_deg_rth: f32::NAN,
+            ..m
+        };
+        assert_eq!(RunningGls::new(&bad, 2.0f32).unwrap_err(), RunningError::BadModel);
+        let mut f = RunningGls::new(&m, 2.0f32).unwrap();
+        for (g, r, v) in [
+            (f32::NAN, 1.0, None),
+            (f32::INFINITY, 1.0, None),
+            (0.0, f32::NAN, None),
+            (0.0, f32::NEG_INFINITY, None),
+            (0.0, 1.0, Some(-1.0)),
+            (0.0, 1.0, Some(0.0)),
+            (0.0, 1.0, Some(f32::NAN)),
+            (0.0, 1.0, Some(f32::INFINITY)),
+        ] {
+            assert_eq!(f.add(g, 1_000_000, r, v), Err(RunningError::NonFinite), "{g} {r} {v:?}");
+        }
+        assert_eq!(f.azimuth().dwells, 0);
+        f.add(0.0, 5_000_000, 1.0, None).unwrap();
+        assert_eq!(f.add(5.0, 4_999_999, 1.0, None), Err(RunningError::TimeOrder));
+        // No white level in the model and none given: no variance to weigh the dwell by.
+        let mut silent = RunningGls::new(&NoiseTerms::NONE, 2.0f32).unwrap();
+        assert_eq!(silent.add(0.0, 0, 1.0, None), Err(RunningError::NonFinite));
     }
 }

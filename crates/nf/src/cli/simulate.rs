@@ -215,8 +215,8 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             true_psi_deg: psi,
             under_noise: report.under_noise.map(|u| UnderNoise {
                 dwells: u.dwells,
-                psi_deg: u.psi_deg,
-                sigma_arcsec: u.sigma_psi_deg * 3600.0,
+                psi_deg: f64::from(u.psi_deg),
+                sigma_arcsec: f64::from(u.sigma_psi_deg) * 3600.0,
             }),
         };
         let j = serde_json::to_string(&j).unwrap_or_default();

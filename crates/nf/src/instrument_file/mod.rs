@@ -215,7 +215,7 @@ impl InstrumentFile {
         RunConfig {
             positions: self.run.positions,
             order: self.order().unwrap_or(Order::Sequential),
-            noise: self.noise.model(),
+            noise: (&self.noise.model()).into(),
             target_arcsec: self.run.target_arcsec.unwrap_or(0.0) as f32,
             dwell_ms: (self.run.dwell_s * 1000.0).round() as u32,
             settle_ms: (self.run.settle_s * 1000.0).round() as u32,

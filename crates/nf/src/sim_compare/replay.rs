@@ -41,7 +41,7 @@ fn sample_dwell(world: &mut World, file: &InstrumentFile, dwell_s: f64) -> Dwell
                 tilt = world.inclinometer();
                 temp_c = world.temperature_c();
             }
-            cal.rate_dph(world.adc_sample() as f64)
+            cal.rate_of_counts(world.adc_sample() as f64)
         })
         .collect();
     let mean = x.iter().sum::<f64>() / m as f64;
