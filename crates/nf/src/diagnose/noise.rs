@@ -114,6 +114,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             quarters: &quarters,
         },
         &[&drifting],
+        noise_est::Colours::WithGaussMarkov,
     )
     .into_iter();
     let (e, with_drift) = (both.next().flatten(), both.next().flatten());
@@ -162,11 +163,17 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     })
 }
 
-/// The grid's models that carry at least 1 % of the best one's likelihood, weighted by it.
+/// The flicker and walk models of the grid that carry at least 1 % of the best one's
+/// likelihood, weighted by it (a Gauss-Markov model's sigma is too small when averaged: see
+/// [`noise_est::Colours`]).
 fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
-    let top = e.best.loglik;
-    let kept: Vec<(f64, NoiseModel)> = std::iter::once(&e.best)
-        .chain(&e.grid)
+    let wander = || {
+        std::iter::once(&e.best)
+            .chain(&e.grid)
+            .filter(|c| no_gauss_markov(&c.model))
+    };
+    let top = wander().map(|c| c.loglik).fold(f64::MIN, f64::max);
+    let kept: Vec<(f64, NoiseModel)> = wander()
         .map(|c| ((c.loglik - top).exp(), c.model))
         .filter(|(w, _)| *w >= 0.01)
         .collect();
