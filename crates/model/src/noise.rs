@@ -85,22 +85,19 @@ impl NoiseModel {
     }
 
     pub fn validate(&self) -> Result<(), NoiseError> {
-        for (name, v) in [
-            ("arw_deg_rth", self.arw_deg_rth),
-            ("bias_instability_dph", self.bias_instability_dph),
-            ("rrw_dph_rth", self.rrw_dph_rth),
-            ("gm_sigma_dph", self.gm_sigma_dph),
-            ("gm_tau_s", self.gm_tau_s),
-            ("quantization_arcsec", self.quantization_arcsec),
-            ("student_t_dof", self.student_t_dof),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(NoiseError::Invalid(name));
-            }
-        }
-        if self.gm_sigma_dph > 0.0 && self.gm_tau_s <= 0.0 {
-            return Err(NoiseError::GmWithoutTau);
-        }
+        check_terms(
+            &[
+                ("arw_deg_rth", self.arw_deg_rth),
+                ("bias_instability_dph", self.bias_instability_dph),
+                ("rrw_dph_rth", self.rrw_dph_rth),
+                ("gm_sigma_dph", self.gm_sigma_dph),
+                ("gm_tau_s", self.gm_tau_s),
+                ("quantization_arcsec", self.quantization_arcsec),
+                ("student_t_dof", self.student_t_dof),
+            ],
+            self.gm_sigma_dph,
+            self.gm_tau_s,
+        )?;
         if self.student_t_dof != 0.0 && self.student_t_dof <= 2.0 {
             return Err(NoiseError::DofTooSmall);
         }
@@ -183,6 +180,18 @@ impl NoiseModel {
     pub fn allan_dev(&self, tau_s: f64) -> f64 {
         self.allan_var(tau_s).max(0.0).sqrt()
     }
+}
+
+/// The rules every noise model keeps, in either float: each term finite and not negative, a
+/// Gauss-Markov sigma with a correlation time.
+pub(crate) fn check_terms<F: Float>(terms: &[(&'static str, F)], gm_sigma: F, gm_tau: F) -> Result<(), NoiseError> {
+    if let Some((name, _)) = terms.iter().find(|(_, v)| !(v.is_finite() && *v >= F::zero())) {
+        return Err(NoiseError::Invalid(name));
+    }
+    if gm_sigma > F::zero() && gm_tau <= F::zero() {
+        return Err(NoiseError::GmWithoutTau);
+    }
+    Ok(())
 }
 
 /// ARW N (deg/sqrt(h)) that gives a mean over `dwell_s` the standard deviation `sigma_dph`.

@@ -2,7 +2,7 @@
 //! `f32` (the MCU computes no `f64`). The host's full model, with the covariances and Allan
 //! variances, is [`NoiseModel`].
 
-use crate::noise::{NoiseError, NoiseModel};
+use crate::noise::{NoiseError, NoiseModel, check_terms};
 
 /// The noise terms of a rate gyro in IEEE Std 952 units, as [`NoiseModel`] has them. Zero
 /// switches a term off.
@@ -42,22 +42,18 @@ impl NoiseTerms {
     /// The rules of [`NoiseModel::validate`]: every term finite and not negative, a
     /// Gauss-Markov sigma with a correlation time.
     pub fn validate(&self) -> Result<(), NoiseError> {
-        for (name, v) in [
-            ("arw_deg_rth", self.arw_deg_rth),
-            ("bias_instability_dph", self.bias_instability_dph),
-            ("rrw_dph_rth", self.rrw_dph_rth),
-            ("gm_sigma_dph", self.gm_sigma_dph),
-            ("gm_tau_s", self.gm_tau_s),
-            ("quantization_arcsec", self.quantization_arcsec),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(NoiseError::Invalid(name));
-            }
-        }
-        if self.gm_sigma_dph > 0.0 && self.gm_tau_s <= 0.0 {
-            return Err(NoiseError::GmWithoutTau);
-        }
-        Ok(())
+        check_terms(
+            &[
+                ("arw_deg_rth", self.arw_deg_rth),
+                ("bias_instability_dph", self.bias_instability_dph),
+                ("rrw_dph_rth", self.rrw_dph_rth),
+                ("gm_sigma_dph", self.gm_sigma_dph),
+                ("gm_tau_s", self.gm_tau_s),
+                ("quantization_arcsec", self.quantization_arcsec),
+            ],
+            self.gm_sigma_dph,
+            self.gm_tau_s,
+        )
     }
 }
 

@@ -26,6 +26,10 @@ enum Factor {
     Windows(Semisep),
 }
 
+/// Windows beyond which the dense fallback of [`Cov::of_windows`] is refused: its n x n matrix
+/// would take more than 32 MB, and the outlier and jump scans under it minutes.
+const DENSE_LIMIT: usize = 2000;
+
 /// The covariance of window means of the gyro rate: centres `t_s`, lengths `dwell_s`.
 pub fn window_covariance(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Vec<f64> {
     let n = t_s.len();
@@ -43,12 +47,13 @@ pub fn window_covariance(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Ve
 impl Cov {
     /// The covariance of the means of windows centred at `t_s`, of lengths `dwell_s`, under
     /// `model`: semiseparable when the windows are apart, as they are in a recording; dense
-    /// (exact flicker, O(n^3)) when they overlap. Defined up to a constant, like
-    /// [`window_covariance`]: for designs with a constant column.
+    /// (exact flicker, O(n^3)) when they overlap, up to [`DENSE_LIMIT`] windows. Defined up
+    /// to a constant, like [`window_covariance`]: for designs with a constant column.
     pub fn of_windows(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Option<Cov> {
         match Semisep::of_windows(model, t_s, dwell_s) {
             Some(s) => Some(Cov::semiseparable(s)),
-            None => Cov::new(&window_covariance(model, t_s, dwell_s), t_s.len()),
+            None if t_s.len() <= DENSE_LIMIT => Cov::new(&window_covariance(model, t_s, dwell_s), t_s.len()),
+            None => None,
         }
     }
 
@@ -225,6 +230,17 @@ mod tests {
             assert!((g.cov[k][k] / (o.cov_unit[k][k] * 0.01) - 1.0).abs() < 1e-9);
         }
         assert!((g.chi2 - o.rss / 0.01).abs() < 1e-6 * g.chi2);
+    }
+
+    #[test]
+    fn overlapping_windows_fall_back_to_the_dense_factor_only_when_small() {
+        let model = NoiseModel {
+            bias_instability_dph: 0.01,
+            ..NoiseModel::white(0.01, 2.0)
+        };
+        let over = |n: usize| Cov::of_windows(&model, &(0..n).map(|i| i as f64).collect::<Vec<_>>(), &vec![2.0; n]);
+        assert!(matches!(over(50).map(|c| c.factor), Some(Factor::Dense { .. })));
+        assert!(over(DENSE_LIMIT + 1).is_none());
     }
 
     #[test]
