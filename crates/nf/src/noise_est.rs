@@ -13,6 +13,7 @@
 
 use crate::gls::{self, Cov};
 use crate::semisep::Windows;
+use crate::stats::chi2_sf;
 use nf_model::noise::NoiseModel;
 use std::f64::consts::FRAC_1_SQRT_2;
 
@@ -51,6 +52,92 @@ pub struct Estimate {
     pub dof: usize,
     /// Likelihood evaluations spent.
     pub evaluations: u32,
+}
+
+/// A colour term of a noise model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Term {
+    Flicker,
+    Walk,
+    GaussMarkov,
+}
+
+/// A colour term whose likelihood-ratio p-value is at least this is left out of the model.
+const KEEP: f64 = 0.1;
+
+impl Term {
+    pub const ALL: [Term; 3] = [Term::Flicker, Term::Walk, Term::GaussMarkov];
+
+    pub fn absent(self, m: &NoiseModel) -> bool {
+        match self {
+            Term::Flicker => m.bias_instability_dph == 0.0,
+            Term::Walk => m.rrw_dph_rth == 0.0,
+            Term::GaussMarkov => m.gm_sigma_dph == 0.0,
+        }
+    }
+
+    /// Its parameters: the Gauss-Markov term has a size and a time.
+    fn dof(self) -> f64 {
+        if self == Term::GaussMarkov { 2.0 } else { 1.0 }
+    }
+}
+
+impl Estimate {
+    /// The model the likelihood supports. In each family (flicker with random walk; a
+    /// Gauss-Markov bias) a term goes when the likelihood ratio of the family's best against
+    /// its best without the term has a p-value of at least [`KEEP`]: a chi-square of the
+    /// term's parameters, not the boundary's half, as the best is refined between grid points
+    /// and the model without the term is not, which inflates the ratio. Of the families'
+    /// reduced models the one with the better likelihood less its parameters (Akaike) is
+    /// chosen: over a short run the families stand in for each other, so terms are tested
+    /// within theirs. The maximum-likelihood estimate of white noise is coloured half the
+    /// time; a colour the likelihood does not support would cost precision for nothing.
+    /// Returns the model and the p-values of the terms it has.
+    pub fn supported(&self) -> (&Candidate, Vec<(Term, f64)>) {
+        let all: Vec<&Candidate> = std::iter::once(&self.best).chain(&self.grid).collect();
+        let white = |m: &NoiseModel| Term::ALL.iter().all(|t| t.absent(m));
+        type Member = fn(&NoiseModel) -> bool;
+        let families: [(&[Term], Member); 2] = [
+            (&[Term::Flicker, Term::Walk], |m| Term::GaussMarkov.absent(m)),
+            (&[Term::GaussMarkov], |m| {
+                !Term::GaussMarkov.absent(m) || Term::ALL.iter().all(|t| t.absent(m))
+            }),
+        ];
+        let best = |keep: &dyn Fn(&NoiseModel) -> bool| {
+            all.iter()
+                .copied()
+                .filter(|c| keep(&c.model))
+                .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
+        };
+        let mut choices = Vec::new();
+        for (terms, member) in families {
+            let Some(top) = best(&member) else { continue };
+            let tests: Vec<(Term, f64)> = terms
+                .iter()
+                .filter(|t| !t.absent(&top.model))
+                .map(|&t| {
+                    let without = best(&|m| member(m) && t.absent(m)).map_or(f64::MIN, |c| c.loglik);
+                    (t, chi2_sf(2.0 * (top.loglik - without).max(0.0), t.dof()))
+                })
+                .collect();
+            let dropped: Vec<Term> = tests.iter().filter(|(_, p)| *p >= KEEP).map(|(t, _)| *t).collect();
+            let Some(reduced) = best(&|m| member(m) && dropped.iter().all(|t| t.absent(m))) else {
+                continue;
+            };
+            let params: f64 = terms
+                .iter()
+                .filter(|t| !t.absent(&reduced.model))
+                .map(|t| t.dof())
+                .sum();
+            let kept = tests.into_iter().filter(|(t, _)| !t.absent(&reduced.model)).collect();
+            choices.push((reduced.loglik - params, reduced, kept));
+        }
+        let chosen = choices.into_iter().max_by(|a, b| a.0.total_cmp(&b.0));
+        chosen.map_or_else(
+            || (best(&white).unwrap_or(&self.best), Vec::new()),
+            |(_, c, kept)| (c, kept),
+        )
+    }
 }
 
 /// Helmert contrasts of four quarters: orthonormal, orthogonal to their mean.

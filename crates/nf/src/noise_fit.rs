@@ -103,12 +103,14 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
         ));
     }
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
-    let (model, source, fits) = match choice {
+    // The fit of the chosen noise model, and every model weighed (with its fit).
+    let (model, source, chosen, fits) = match choice {
         NoiseChoice::Given(m, s) => {
             let cov = Cov::of_windows(m, &t, &vec![dwell_s; n])
                 .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
             let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
-            (*m, NoiseSource::Given(s.clone()), vec![(1.0, g.coef, g.cov)])
+            let at = Azimuth::of(&g.coef, &g.cov);
+            (*m, NoiseSource::Given(s.clone()), at, vec![(1.0, g.coef, g.cov)])
         }
         NoiseChoice::Estimate => {
             let e = noise_est::estimate(Data {
@@ -119,8 +121,11 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
                 quarters: &quarters,
             })
             .ok_or("the noise model could not be estimated from the recording")?;
-            // Each grid model weighted by its likelihood: the azimuth's sigma then carries how
-            // poorly one recording pins its own noise down.
+            // The azimuth of the model the likelihood supports (on white noise, least squares:
+            // the Cramer-Rao bound); its variance over every grid model weighted by its
+            // likelihood, so the sigma carries how poorly one recording pins its noise down.
+            let (supported, _) = e.supported();
+            let (model, at) = (supported.model, Azimuth::of(&supported.coef, &supported.cov));
             let top = e.best.loglik;
             let fits = e
                 .grid
@@ -131,7 +136,7 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
                 dof: e.dof,
                 from_quarters: quarters.len(),
             };
-            (e.best.model, source, fits)
+            (model, source, at, fits)
         }
     };
     let total: f64 = fits.iter().map(|f| f.0).sum();
@@ -139,17 +144,15 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
         .iter()
         .map(|(w, coef, cov)| (w / total, Azimuth::of(coef, cov)))
         .collect();
+    let mean = |f: &dyn Fn(&Azimuth) -> f64| per.iter().map(|(w, a)| w * f(a)).sum::<f64>();
+    // The most likely model's variance and how far the models' estimates lie from the chosen.
     let best = &per
         .iter()
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .ok_or("no noise model fits")?
         .1;
-    let psi0 = best.psi_deg;
-    let mean = |f: &dyn Fn(&Azimuth) -> f64| per.iter().map(|(w, a)| w * f(a)).sum::<f64>();
-    let dpsi = mean(&|a| wrap_180(a.psi_deg - psi0));
-    let amp = mean(&|a| a.amplitude_dph);
-    let var_psi = best.sigma_psi_deg.powi(2) + mean(&|a| (wrap_180(a.psi_deg - psi0) - dpsi).powi(2));
-    let var_amp = best.sigma_amplitude_dph.powi(2) + mean(&|a| (a.amplitude_dph - amp).powi(2));
+    let var_psi = best.sigma_psi_deg.powi(2) + mean(&|a| wrap_180(a.psi_deg - chosen.psi_deg).powi(2));
+    let var_amp = best.sigma_amplitude_dph.powi(2) + mean(&|a| (a.amplitude_dph - chosen.amplitude_dph).powi(2));
     // The whitened residuals of the chosen model tell whether it describes the recording.
     let cov = Cov::of_windows(&model, &t, &vec![dwell_s; n])
         .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
@@ -159,9 +162,9 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
         source,
         dwell_s,
         dwell_from,
-        psi_deg: wrap_360(psi0 + dpsi),
+        psi_deg: wrap_360(chosen.psi_deg),
         sigma_psi_deg: var_psi.sqrt(),
-        amplitude_dph: amp,
+        amplitude_dph: chosen.amplitude_dph,
         sigma_amplitude_dph: var_amp.sqrt(),
         offset_dph: g.coef[0],
         chi2: g.chi2,

@@ -15,13 +15,9 @@ use super::tails::Tails;
 use super::whiten::Whitener;
 use crate::gls::Cov;
 use crate::linfit;
-use crate::noise_est::{self, Candidate};
+use crate::noise_est::{self, Candidate, Term};
 use crate::noise_fit::{NoiseChoice, dwell_of};
-use crate::stats::chi2_sf;
 use nf_model::noise::NoiseModel;
-
-/// A colour term whose likelihood-ratio p-value is above this is left out of the whitening.
-const KEEP: f64 = 0.1;
 
 /// Log-likelihood below the best that a noise model may lie and still count as plausible:
 /// half the 68 % point of a chi-square of 1 dof (one sigma).
@@ -121,13 +117,13 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     let e = e.ok_or("the noise could not be estimated from the recording")?;
     // A colour the likelihood does not support is left out: the maximum-likelihood estimate
     // of white noise is coloured half the time, and would cost every test power for nothing.
-    let (chosen, tests) = supported(&e);
+    let (chosen, tests) = e.supported();
     let model = chosen.model;
     let terms = tests
         .into_iter()
-        .filter(|&(_, p)| p < alpha / COLOURS.len() as f64)
-        .map(|(kind, p)| NoiseTerm {
-            kind,
+        .filter(|&(_, p)| p < alpha / Term::ALL.len() as f64)
+        .map(|(term, p)| NoiseTerm {
+            kind: kind_of(term),
             p,
             parameters: allan_parameters(&model, &e.grid, chosen.loglik),
         })
@@ -170,7 +166,7 @@ fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
     let wander = || {
         std::iter::once(&e.best)
             .chain(&e.grid)
-            .filter(|c| no_gauss_markov(&c.model))
+            .filter(|c| Term::GaussMarkov.absent(&c.model))
     };
     let top = wander().map(|c| c.loglik).fold(f64::MIN, f64::max);
     let kept: Vec<(f64, NoiseModel)> = wander()
@@ -210,96 +206,13 @@ fn with_bursts_held_out(d: &Data, cols: &[Vec<f64>], y: &[f64]) -> Vec<Vec<f64>>
     out
 }
 
-/// A colour term: its name, whether a model lacks it, and its parameters.
-struct Colour {
-    kind: Kind,
-    none: fn(&NoiseModel) -> bool,
-    dof: f64,
-}
-
-const COLOURS: [Colour; 3] = [
-    Colour {
-        kind: Kind::BiasInstability,
-        none: no_flicker,
-        dof: 1.0,
-    },
-    Colour {
-        kind: Kind::RateRandomWalk,
-        none: no_random_walk,
-        dof: 1.0,
-    },
-    // Its size and its time.
-    Colour {
-        kind: Kind::CorrelatedNoise,
-        none: no_gauss_markov,
-        dof: 2.0,
-    },
-];
-
-/// The model the likelihood supports. In each family of the estimate (flicker with random
-/// walk; a Gauss-Markov bias) a term goes when the likelihood ratio of the family's best
-/// against its best without the term has a p-value of at least [`KEEP`]: a chi-square of the
-/// term's parameters, not the boundary's half, as the best is refined between grid points
-/// and the model without the term is not, which inflates the ratio. Of the two families'
-/// reduced models the one with the better likelihood less its parameters (Akaike) is chosen:
-/// the families stand in for each other over a short run, so terms are tested within theirs.
-/// Returns the model and the p-values of the terms it has.
-fn supported(e: &noise_est::Estimate) -> (&Candidate, Vec<(Kind, f64)>) {
-    let all: Vec<&Candidate> = std::iter::once(&e.best).chain(&e.grid).collect();
-    let white = |m: &NoiseModel| COLOURS.iter().all(|t| (t.none)(m));
-    type Member = fn(&NoiseModel) -> bool;
-    let families: [(&[Colour], Member); 2] = [
-        (&COLOURS[..2], no_gauss_markov),
-        (&COLOURS[2..], |m| {
-            !no_gauss_markov(m) || COLOURS.iter().all(|t| (t.none)(m))
-        }),
-    ];
-    let best = |keep: &dyn Fn(&NoiseModel) -> bool| {
-        all.iter()
-            .copied()
-            .filter(|c| keep(&c.model))
-            .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
-    };
-    let mut choices = Vec::new();
-    for (terms, member) in families {
-        let Some(top) = best(&member) else { continue };
-        let tests: Vec<(&Colour, f64)> = terms
-            .iter()
-            .filter(|t| !(t.none)(&top.model))
-            .map(|t| {
-                let without = best(&|m| member(m) && (t.none)(m)).map_or(f64::MIN, |c| c.loglik);
-                (t, chi2_sf(2.0 * (top.loglik - without).max(0.0), t.dof))
-            })
-            .collect();
-        let dropped: Vec<&Colour> = tests.iter().filter(|(_, p)| *p >= KEEP).map(|(t, _)| *t).collect();
-        let Some(reduced) = best(&|m| member(m) && dropped.iter().all(|t| (t.none)(m))) else {
-            continue;
-        };
-        let params: f64 = terms.iter().filter(|t| !(t.none)(&reduced.model)).map(|t| t.dof).sum();
-        let kept = tests
-            .into_iter()
-            .filter(|(t, _)| !(t.none)(&reduced.model))
-            .map(|(t, p)| (t.kind, p))
-            .collect();
-        choices.push((reduced.loglik - params, reduced, kept));
+/// The finding that names a colour term.
+fn kind_of(t: Term) -> Kind {
+    match t {
+        Term::Flicker => Kind::BiasInstability,
+        Term::Walk => Kind::RateRandomWalk,
+        Term::GaussMarkov => Kind::CorrelatedNoise,
     }
-    let chosen = choices.into_iter().max_by(|a, b| a.0.total_cmp(&b.0));
-    chosen.map_or_else(
-        || (best(&white).unwrap_or(&e.best), Vec::new()),
-        |(_, c, kept)| (c, kept),
-    )
-}
-
-fn no_flicker(m: &NoiseModel) -> bool {
-    m.bias_instability_dph == 0.0
-}
-
-fn no_random_walk(m: &NoiseModel) -> bool {
-    m.rrw_dph_rth == 0.0
-}
-
-fn no_gauss_markov(m: &NoiseModel) -> bool {
-    m.gm_sigma_dph == 0.0
 }
 
 /// N, B and K of the estimate (and a Gauss-Markov term's size and time where it has one),
