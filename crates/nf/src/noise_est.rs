@@ -7,9 +7,9 @@
 //!
 //! The white level is profiled out in closed form; each family's two parameters are searched
 //! on a logarithmic grid (zero included for flicker and walk; negligible corners skipped) and
-//! the best refined by halving the step. Every grid point keeps its
-//! likelihood and its GLS fit, so that a caller can average over the noise models the
-//! recording allows instead of trusting one estimate.
+//! the best refined by halving the step. Every grid point keeps its likelihood and its GLS
+//! fit, so that a caller can average over the noise models the recording allows instead of
+//! trusting one estimate.
 
 use crate::gls::{self, Cov};
 use crate::semisep::Windows;

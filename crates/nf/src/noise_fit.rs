@@ -122,8 +122,8 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
             })
             .ok_or("the noise model could not be estimated from the recording")?;
             // The azimuth of the model the likelihood supports (on white noise, least squares:
-            // the Cramer-Rao bound); its variance over every grid model weighted by its
-            // likelihood, so the sigma carries how poorly one recording pins its noise down.
+            // the Cramer-Rao bound); every grid model weighted by its likelihood for the
+            // sigma, which so carries how poorly one recording pins its noise down.
             let (supported, _) = e.supported();
             let (model, at) = (supported.model, Azimuth::of(&supported.coef, &supported.cov));
             let top = e.best.loglik;

@@ -1,10 +1,11 @@
 //! The recording's own noise, before any effect is tested: white noise with flicker (bias
-//! instability) and rate random walk, or with a Gauss-Markov bias, estimated by REML (`crate::noise_est`) from the quarter
-//! means and the dwell means in time order. The REML design holds the effects that noise
-//! cannot make (temperature, harmonics 2-4 of the angle), so that they are not taken for
-//! noise. It does not hold a drift: over one run a drift and a rate random walk are the same
-//! wander, and the null hypothesis of every test is that the wander is noise. Colour that the
-//! likelihood needs is itself a finding, with its Allan parameters.
+//! instability) and rate random walk, or with a Gauss-Markov bias, estimated by REML
+//! (`crate::noise_est`) from the quarter means and the dwell means in time order. The REML
+//! design holds the effects that noise cannot make (temperature, harmonics 2-4 of the angle),
+//! so that they are not taken for noise. It does not hold a drift: over one run a drift and a
+//! rate random walk are the same wander, and the null hypothesis of every test is that the
+//! wander is noise. Colour that the likelihood needs is itself a finding, with its Allan
+//! parameters.
 
 use super::data::Data;
 use super::effect::{Param, param};
@@ -115,8 +116,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     .into_iter();
     let (e, with_drift) = (both.next().flatten(), both.next().flatten());
     let e = e.ok_or("the noise could not be estimated from the recording")?;
-    // A colour the likelihood does not support is left out: the maximum-likelihood estimate
-    // of white noise is coloured half the time, and would cost every test power for nothing.
+    // Without the colour the likelihood does not support, which would cost every test power.
     let (chosen, tests) = e.supported();
     let model = chosen.model;
     let terms = tests
