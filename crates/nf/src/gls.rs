@@ -31,7 +31,7 @@ enum Factor {
 const DENSE_LIMIT: usize = 2000;
 
 /// The covariance of window means of the gyro rate: centres `t_s`, lengths `dwell_s`.
-pub fn window_covariance(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Vec<f64> {
+pub(crate) fn window_covariance(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Vec<f64> {
     let n = t_s.len();
     let mut m = vec![0.0; n * n];
     for i in 0..n {

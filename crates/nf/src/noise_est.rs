@@ -50,8 +50,6 @@ pub struct Estimate {
     pub grid: Vec<Candidate>,
     /// Degrees of freedom the white level was estimated with.
     pub dof: usize,
-    /// Likelihood evaluations spent.
-    pub evaluations: u32,
 }
 
 /// A colour term of a noise model.
@@ -228,7 +226,6 @@ struct Problem<'a> {
     dwells: Vec<f64>,
     /// What every model shares about the dwells, when they are apart (as in a recording).
     windows: Option<Windows>,
-    evaluations: u32,
 }
 
 impl<'a> Problem<'a> {
@@ -249,7 +246,6 @@ impl<'a> Problem<'a> {
             dwells,
             data,
             scatter,
-            evaluations: 0,
         }
     }
 
@@ -280,8 +276,7 @@ impl<'a> Problem<'a> {
     }
 
     /// The model at `at` with the white level that maximises the likelihood, for design `k`.
-    fn profile(&mut self, at: Point, k: usize) -> Option<Candidate> {
-        self.evaluations += 1;
+    fn profile(&self, at: Point, k: usize) -> Option<Candidate> {
         let cov = self.cov(at)?;
         self.candidate(at, &cov, self.designs[k])
     }
@@ -464,7 +459,7 @@ pub fn estimate(data: Data<'_>) -> Option<Estimate> {
 /// recording (other columns, the same dwell means): the grid's covariances are factored once
 /// for all.
 pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]], colours: Colours) -> Vec<Option<Estimate>> {
-    let mut p = Problem::new(data, more);
+    let p = Problem::new(data, more);
     let (ub, uk) = p.units();
     let mut grids = vec![Grid::wander(ub, uk)];
     if colours == Colours::WithGaussMarkov {
@@ -483,7 +478,6 @@ pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]], colours: Colour
     while !next.is_empty() {
         for &(f, i, j) in &next {
             let at = grids[f].point(i, j);
-            p.evaluations += 1;
             let mut best = f64::MIN;
             if let Some(cov) = p.cov(at) {
                 for (k, cols) in p.designs.iter().enumerate() {
@@ -514,15 +508,11 @@ pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]], colours: Colour
             }
         }
     }
-    cands
-        .into_iter()
-        .enumerate()
-        .map(|(k, c)| refine(&mut p, k, c))
-        .collect()
+    cands.into_iter().enumerate().map(|(k, c)| refine(&p, k, c)).collect()
 }
 
 /// The best of design `k`'s grid, refined in log steps, halving from the grid's half decade.
-fn refine(p: &mut Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<Estimate> {
+fn refine(p: &Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<Estimate> {
     let (mut at, mut best) = cands.iter().max_by(|a, b| a.1.loglik.total_cmp(&b.1.loglik))?.clone();
     let mut step = 10f64.powf(0.5);
     for _ in 0..6 {
@@ -543,7 +533,6 @@ fn refine(p: &mut Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<E
         best,
         grid: cands.into_iter().map(|c| c.1).collect(),
         dof: p.data.t_s.len() - p.designs[k].len() + 3 * p.data.quarters.len(),
-        evaluations: p.evaluations,
     })
 }
 
@@ -596,7 +585,7 @@ mod tests {
                 .remove(0)
                 .unwrap();
             let grid_best = e.grid.iter().map(|c| c.loglik).fold(f64::MIN, f64::max);
-            let mut p = Problem::new(data, &[]);
+            let p = Problem::new(data, &[]);
             let (ub, uk) = p.units();
             let grids = [Grid::wander(ub, uk), Grid::gauss_markov(ub, p.spacing(), p.span())];
             let points: Vec<Point> = grids
