@@ -108,6 +108,15 @@ impl Cov {
         }
     }
 
+    /// `W^-1 z`, the inverse of [`Cov::whiten`]: from independent unit normals `z`, a draw
+    /// with this covariance (up to the constant a generalised covariance leaves free).
+    pub fn colour(&self, z: &[f64]) -> Vec<f64> {
+        match &self.factor {
+            Factor::Dense { n, chol } => (0..*n).map(|i| (0..=i).map(|k| chol[i * n + k] * z[k]).sum()).collect(),
+            Factor::Windows(s) => s.colour(z),
+        }
+    }
+
     /// `W^T v`, the adjoint of [`Cov::whiten`].
     pub fn adjoint(&self, v: &[f64]) -> Vec<f64> {
         match &self.factor {
@@ -262,5 +271,42 @@ mod tests {
         assert!((a.coef[1] - b.coef[1]).abs() < 1e-9 * a.coef[1].abs().max(1e-6));
         assert!((a.cov[1][1] / b.cov[1][1] - 1.0).abs() < 1e-6);
         assert!((a.reml_loglik - b.reml_loglik).abs() < 1e-6);
+    }
+
+    #[test]
+    fn colour_inverts_the_whitening_and_draws_the_covariance() {
+        let model = NoiseModel {
+            bias_instability_dph: 0.02,
+            rrw_dph_rth: 0.05,
+            gm_sigma_dph: 0.01,
+            gm_tau_s: 20.0,
+            ..NoiseModel::white(0.01, 2.0)
+        };
+        let n = 24;
+        let t: Vec<f64> = (0..n).map(|i| 2.5 * i as f64 + 0.1 * (i % 3) as f64).collect();
+        let sigma = window_covariance(&model, &t, &vec![2.0; n]);
+        let dense = Cov::new(&sigma, n).unwrap();
+        let windows = Cov::of_windows(&model, &t, &vec![2.0; n]).unwrap();
+        assert!(matches!(windows.factor, Factor::Windows(_)));
+        let mut rng = Rng::new(8);
+        for cov in [&dense, &windows] {
+            let z: Vec<f64> = (0..n).map(|_| rng.gauss()).collect();
+            let back = cov.whiten(&cov.colour(&z));
+            assert!(z.iter().zip(&back).all(|(a, b)| (a - b).abs() < 1e-9));
+            // Contrasts of the draws have the closed form's variance (a first and a last
+            // difference; the free constant drops out of both).
+            let (draws, pairs) = (4000, [(0, 1), (0, n - 1), (5, 11)]);
+            for (i, j) in pairs {
+                let want = sigma[i * n + i] + sigma[j * n + j] - 2.0 * sigma[i * n + j];
+                let got = (0..draws)
+                    .map(|_| {
+                        let v = cov.colour(&(0..n).map(|_| rng.gauss()).collect::<Vec<_>>());
+                        (v[i] - v[j]).powi(2)
+                    })
+                    .sum::<f64>()
+                    / draws as f64;
+                assert!((got / want - 1.0).abs() < 0.07, "({i}, {j}): {got} vs {want}");
+            }
+        }
     }
 }

@@ -242,6 +242,27 @@ impl Semisep {
         out
     }
 
+    /// The inverse of [`Semisep::whiten`]: `v` with `whiten(v) = z`. From independent unit
+    /// normals `z` it draws the windows' means under the covariance.
+    pub fn colour(&self, z: &[f64]) -> Vec<f64> {
+        let r = self.r;
+        let mut out = vec![0.0; z.len()];
+        let mut f = vec![0.0; r];
+        let mut prev = 0.0;
+        for (k, &i) in self.order.iter().enumerate() {
+            if k > 0 {
+                let (w, phi) = (&self.w[(k - 1) * r..k * r], &self.phi[k * r..(k + 1) * r]);
+                for a in 0..r {
+                    f[a] = phi[a] * (f[a] + w[a] * prev);
+                }
+            }
+            let u = &self.u[k * r..(k + 1) * r];
+            prev = z[i] * self.d[k].sqrt();
+            out[i] = prev + (0..r).map(|a| u[a] * f[a]).sum::<f64>();
+        }
+        out
+    }
+
     /// `ln det Sigma`.
     pub fn log_det(&self) -> f64 {
         self.d.iter().map(|d| d.ln()).sum()
