@@ -88,6 +88,7 @@ fn simulate_then_fit_json() {
     assert!(wrap_180(psi - 200.0).abs() * 3600.0 < 4.0 * sigma, "{psi} {sigma}");
     assert!(j["rss"].as_f64().unwrap() > 0.0);
     assert_eq!(j["tilt_correction"], "exact");
+    assert!(j["noise_model"]["sigma_calibration"].as_f64().unwrap() >= 1.0);
     assert!((j["surveying_azimuth_deg"].as_f64().unwrap() - (360.0 - psi)).abs() < 1e-9);
     let svg = tmp("fit.svg");
     let (code, out, _) = nf(&["fit", &rec, "--plot", &svg, "--drift", "linear", "--harmonics", "2"]);

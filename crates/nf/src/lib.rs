@@ -11,6 +11,7 @@ pub mod gls;
 pub mod instrument_file;
 pub(crate) mod linfit;
 pub mod logparse;
+pub mod noise_calib;
 pub mod noise_est;
 pub mod noise_file;
 pub mod noise_fit;

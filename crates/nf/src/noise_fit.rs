@@ -2,7 +2,8 @@
 //! the recording, and the check that the Earth rate was resolved at all.
 
 use crate::gls::{self, Cov};
-use crate::noise_est::{self, Data};
+use crate::noise_calib::{self, Calibration, Verdict};
+use crate::noise_est::{self, Data, Estimate};
 use crate::recording::Recording;
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
@@ -20,19 +21,38 @@ pub enum NoiseChoice {
 /// How the noise model was obtained, for the report.
 #[derive(Debug, Clone, PartialEq)]
 pub enum NoiseSource {
-    Estimated { dof: usize, from_quarters: usize },
+    Estimated {
+        dof: usize,
+        from_quarters: usize,
+        /// The parametric bootstrap that scaled the sigmas, when it could be run.
+        calibration: Option<Calibration>,
+    },
     Given(String),
 }
 
 impl NoiseSource {
     pub fn describe(&self) -> String {
         match self {
-            NoiseSource::Estimated { dof, from_quarters: 0 } => {
-                format!("estimated from the recording (REML on the dwell means in time order, {dof} dof)")
+            NoiseSource::Estimated {
+                dof,
+                from_quarters,
+                calibration,
+            } => {
+                let from = match from_quarters {
+                    0 => String::new(),
+                    q => format!("quarter means of {q} dwells and "),
+                };
+                let calibrated = match calibration {
+                    Some(c) => format!(
+                        "; sigma scaled by {:.2} as {} replicates drawn from the estimate showed",
+                        c.psi, c.replicates
+                    ),
+                    None => "; sigma not calibrated (no replicate could be drawn)".into(),
+                };
+                format!(
+                    "estimated from the recording ({from}REML on the dwell means in time order, {dof} dof){calibrated}"
+                )
             }
-            NoiseSource::Estimated { dof, from_quarters } => format!(
-                "estimated from the recording (quarter means of {from_quarters} dwells and REML on the dwell means in time order, {dof} dof)"
-            ),
             NoiseSource::Given(s) => format!("given: {s}"),
         }
     }
@@ -103,56 +123,42 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
         ));
     }
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
-    // The fit of the chosen noise model, and every model weighed (with its fit).
-    let (model, source, chosen, fits) = match choice {
+    let (model, source, v) = match choice {
         NoiseChoice::Given(m, s) => {
             let cov = Cov::of_windows(m, &t, &vec![dwell_s; n])
                 .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
             let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
-            let at = Azimuth::of(&g.coef, &g.cov);
-            (*m, NoiseSource::Given(s.clone()), at, vec![(1.0, g.coef, g.cov)])
+            (*m, NoiseSource::Given(s.clone()), Azimuth::of(&g.coef, &g.cov))
         }
         NoiseChoice::Estimate => {
-            let e = noise_est::estimate(Data {
+            let data = Data {
                 t_s: &t,
                 dwell_s,
                 cols: &cols,
                 y,
                 quarters: &quarters,
-            })
-            .ok_or("the noise model could not be estimated from the recording")?;
-            // The azimuth of the model the likelihood supports (on white noise, least squares:
-            // the Cramer-Rao bound); every grid model weighted by its likelihood for the
-            // sigma, which so carries how poorly one recording pins its noise down.
-            let (supported, _) = e.supported();
-            let (model, at) = (supported.model, Azimuth::of(&supported.coef, &supported.cov));
-            let top = e.best.loglik;
-            let fits = e
-                .grid
-                .into_iter()
-                .map(|c| ((c.loglik - top).exp(), c.coef, c.cov))
-                .collect();
+            };
+            let e =
+                noise_est::estimate(data.clone()).ok_or("the noise model could not be estimated from the recording")?;
+            let j = judge(&e).ok_or("no noise model fits")?;
+            let fitted: Vec<f64> = (0..n).map(|i| (0..p).map(|k| cols[k][i] * j.coef[k]).sum()).collect();
+            // Replicates from the supported model, fitted the same way, calibrate the sigma.
+            let judge_replica = |d: Data<'_>| noise_est::estimate(d).as_ref().and_then(judge).map(|j| j.verdict);
+            let calibration = noise_calib::calibrate(&data, &j.model, &fitted, &j.verdict, judge_replica);
+            let scale = calibration.map_or((1.0, 1.0), |c| (c.psi, c.amplitude));
+            let v = Verdict {
+                sigma_psi_deg: j.verdict.sigma_psi_deg * scale.0,
+                sigma_amplitude_dph: j.verdict.sigma_amplitude_dph * scale.1,
+                ..j.verdict
+            };
             let source = NoiseSource::Estimated {
                 dof: e.dof,
                 from_quarters: quarters.len(),
+                calibration,
             };
-            (model, source, at, fits)
+            (j.model, source, v)
         }
     };
-    let total: f64 = fits.iter().map(|f| f.0).sum();
-    let per: Vec<(f64, Azimuth)> = fits
-        .iter()
-        .map(|(w, coef, cov)| (w / total, Azimuth::of(coef, cov)))
-        .collect();
-    let mean = |f: &dyn Fn(&Azimuth) -> f64| per.iter().map(|(w, a)| w * f(a)).sum::<f64>();
-    // The most likely model's variance and how far the models' estimates lie from the chosen.
-    let best = &per
-        .iter()
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .ok_or("no noise model fits")?
-        .1;
-    let var_psi = best.sigma_psi_deg.powi(2) + mean(&|a| wrap_180(a.psi_deg - chosen.psi_deg).powi(2));
-    let var_amp = best.sigma_amplitude_dph.powi(2) + mean(&|a| (a.amplitude_dph - chosen.amplitude_dph).powi(2));
     // The whitened residuals of the chosen model tell whether it describes the recording.
     let cov = Cov::of_windows(&model, &t, &vec![dwell_s; n])
         .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
@@ -162,32 +168,63 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
         source,
         dwell_s,
         dwell_from,
-        psi_deg: wrap_360(chosen.psi_deg),
-        sigma_psi_deg: var_psi.sqrt(),
-        amplitude_dph: chosen.amplitude_dph,
-        sigma_amplitude_dph: var_amp.sqrt(),
+        psi_deg: wrap_360(v.psi_deg),
+        sigma_psi_deg: v.sigma_psi_deg,
+        amplitude_dph: v.amplitude_dph,
+        sigma_amplitude_dph: v.sigma_amplitude_dph,
         offset_dph: g.coef[0],
         chi2: g.chi2,
         dof: g.dof,
     })
 }
 
-/// Azimuth and amplitude of one fit's `C, A, B` and their covariance.
-struct Azimuth {
-    psi_deg: f64,
-    sigma_psi_deg: f64,
-    amplitude_dph: f64,
-    sigma_amplitude_dph: f64,
+/// What the estimate makes of a recording: the model the likelihood supports, its fit's
+/// coefficients and azimuth, and the variance of the most likely model plus the spread of the
+/// grid models' azimuths about the chosen one (weighted by their likelihood), which carries
+/// how poorly one recording pins its noise down.
+struct Judged {
+    model: NoiseModel,
+    coef: Vec<f64>,
+    verdict: Verdict,
 }
 
+fn judge(e: &Estimate) -> Option<Judged> {
+    // The azimuth of the supported model: on white noise, least squares (the Cramer-Rao bound).
+    let (supported, _) = e.supported();
+    let chosen = Azimuth::of(&supported.coef, &supported.cov);
+    let top = e.best.loglik;
+    let per: Vec<(f64, Verdict)> = e
+        .grid
+        .iter()
+        .map(|c| ((c.loglik - top).exp(), Azimuth::of(&c.coef, &c.cov)))
+        .collect();
+    let total: f64 = per.iter().map(|f| f.0).sum();
+    let mean = |f: &dyn Fn(&Verdict) -> f64| per.iter().map(|(w, a)| w / total * f(a)).sum::<f64>();
+    let best = &per.iter().max_by(|a, b| a.0.total_cmp(&b.0))?.1;
+    let var_psi = best.sigma_psi_deg.powi(2) + mean(&|a| wrap_180(a.psi_deg - chosen.psi_deg).powi(2));
+    let var_amp = best.sigma_amplitude_dph.powi(2) + mean(&|a| (a.amplitude_dph - chosen.amplitude_dph).powi(2));
+    Some(Judged {
+        model: supported.model,
+        coef: supported.coef.clone(),
+        verdict: Verdict {
+            sigma_psi_deg: var_psi.sqrt(),
+            sigma_amplitude_dph: var_amp.sqrt(),
+            ..chosen
+        },
+    })
+}
+
+/// Azimuth and amplitude of one fit's `C, A, B` and their covariance.
+struct Azimuth;
+
 impl Azimuth {
-    fn of(coef: &[f64], cov: &[Vec<f64>]) -> Azimuth {
+    fn of(coef: &[f64], cov: &[Vec<f64>]) -> Verdict {
         let (a, b) = (coef[1], coef[2]);
         let r2 = a * a + b * b;
         let (vaa, vbb, vab) = (cov[1][1], cov[2][2], cov[1][2]);
         let var_psi = (b * b * vaa + a * a * vbb - 2.0 * a * b * vab) / (r2 * r2);
         let var_amp = (a * a * vaa + b * b * vbb + 2.0 * a * b * vab) / r2;
-        Azimuth {
+        Verdict {
             psi_deg: atan2_deg(-b, a),
             sigma_psi_deg: var_psi.max(0.0).sqrt().to_degrees(),
             amplitude_dph: r2.sqrt(),

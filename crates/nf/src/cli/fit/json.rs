@@ -4,6 +4,7 @@
 
 use super::super::json::BudgetJson;
 use crate::analysis::Analysis;
+use crate::noise_fit::NoiseSource;
 use nf_model::angle::surveying_azimuth_deg;
 use serde::Serialize;
 
@@ -88,6 +89,9 @@ struct NoiseModelJson {
     quantization_arcsec: f64,
     /// Rate random walk K, deg/h/sqrt(h).
     rrw_dph_rth: f64,
+    /// The factor a parametric bootstrap scaled the azimuth's sigma by (an estimated model
+    /// only; null when given or when no replicate could be drawn).
+    sigma_calibration: Option<f64>,
     /// Where the model came from: the flags, a file, or estimated from the recording.
     source: String,
 }
@@ -133,6 +137,10 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
             gm_tau_s: m.gm_tau_s,
             quantization_arcsec: m.quantization_arcsec,
             rrw_dph_rth: m.rrw_dph_rth,
+            sigma_calibration: match &g.source {
+                NoiseSource::Estimated { calibration, .. } => calibration.map(|c| c.psi),
+                NoiseSource::Given(_) => None,
+            },
             source: g.source.describe(),
         },
         not_resolved_because: unresolved,
