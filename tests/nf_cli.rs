@@ -89,6 +89,16 @@ fn simulate_then_fit_json() {
     assert!(j["rss"].as_f64().unwrap() > 0.0);
     assert_eq!(j["tilt_correction"], "exact");
     assert!(j["noise_model"]["sigma_calibration"].as_f64().unwrap() >= 1.0);
+    let (code, out, err) = nf(&["fit", &rec, "--json", "--replicates", "0"]);
+    assert_eq!(code, 0, "{err}");
+    let raw: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(raw["noise_model"]["sigma_calibration"].is_null());
+    assert!(raw["sigma_arcsec"].as_f64().unwrap() <= sigma + 1e-9);
+    let (code, out, err) = nf(&["fit", &rec, "--replicates", "-3"]);
+    assert!(
+        code == 2 && out.is_empty() && err.contains("--replicates"),
+        "{code} {err}"
+    );
     assert!((j["surveying_azimuth_deg"].as_f64().unwrap() - (360.0 - psi)).abs() < 1e-9);
     let svg = tmp("fit.svg");
     let (code, out, _) = nf(&["fit", &rec, "--plot", &svg, "--drift", "linear", "--harmonics", "2"]);

@@ -1,6 +1,7 @@
 //! The fit of a recording: the azimuth with the tilt correction the recording allows, its
 //! uncertainty from the residuals and from the budgets, the residuals themselves.
 
+use crate::noise_calib;
 use crate::noise_fit::{self, NoiseChoice, NoiseFit};
 use crate::recording::Recording;
 use crate::tilt;
@@ -45,6 +46,8 @@ pub struct Options {
     pub gyro_elev_deg: f64,
     /// The noise model of the GLS fit.
     pub noise: NoiseChoice,
+    /// Bootstrap replicates that calibrate an estimated noise model's sigma (0: none).
+    pub replicates: usize,
 }
 
 impl Default for Options {
@@ -57,6 +60,7 @@ impl Default for Options {
             sigma_tilt_deg: 0.003,
             gyro_elev_deg: 0.01,
             noise: NoiseChoice::Estimate,
+            replicates: noise_calib::REPLICATES.into(),
         }
     }
 }
@@ -127,7 +131,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         })
         .collect();
     let y: Vec<f64> = rec.rows.iter().zip(&corrections).map(|(r, c)| r.rate_dph - c).collect();
-    let gls = noise_fit::fit(rec, &y, &cfg, &opt.noise)?;
+    let gls = noise_fit::fit(rec, &y, &cfg, &opt.noise, opt.replicates)?;
     let n = fit.n;
     let sigma_gyro_dph = fit.s2.sqrt();
     // With the tilt measured, what is left of it is the inclinometer's uncertainty.

@@ -15,8 +15,8 @@ use nf_model::angle::wrap_180;
 use nf_model::noise::NoiseModel;
 use nf_model::rng::Rng;
 
-/// Replicates per calibration: the factor is then known to about 12 %.
-pub const REPLICATES: usize = 40;
+/// Replicates per calibration by default: the factor is then known to about 12 %.
+pub const REPLICATES: u16 = 40;
 
 /// What one fit of a recording (or a replicate) gives: the azimuth and amplitude with their
 /// sigmas.
@@ -36,32 +36,44 @@ pub struct Calibration {
     pub replicates: usize,
 }
 
-/// Calibrates `truth`, the fit of `data`: each replicate is `fitted` (the fit's prediction
-/// of the dwell means) plus noise drawn from `model` for the dwells and their quarters, fitted
-/// by `judge`. `None` when the model gives no covariance for the recording's windows or no
-/// replicate could be fitted.
+/// Calibrates `truth`, the fit of `data`, by `replicates` replicates: each is `fitted` (the
+/// fit's prediction of the dwell means) plus noise drawn from `model` for the dwells and their
+/// quarters, fitted by `judge`. The replicates run on every core, each from its own seed.
+/// `None` when the model gives no covariance for the recording's windows or no replicate
+/// could be fitted.
 pub fn calibrate(
     data: &Data<'_>,
     model: &NoiseModel,
     fitted: &[f64],
     truth: &Verdict,
-    judge: impl Fn(Data<'_>) -> Option<Verdict>,
+    replicates: usize,
+    judge: impl Fn(Data<'_>) -> Option<Verdict> + Sync,
 ) -> Option<Calibration> {
     let draw = Draw::new(data, model)?;
-    let mut rng = Rng::new(seed_of(data.y));
-    let (mut zp, mut za, mut k) = (0.0, 0.0, 0usize);
-    for _ in 0..REPLICATES {
+    let seed = seed_of(data.y);
+    let one = |b: usize| {
+        let mut rng = Rng::new(seed ^ (b as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let (y, quarters) = draw.replicate(&mut rng, fitted);
-        let replica = Data {
+        let v = judge(Data {
             y: &y,
             quarters: &quarters,
             ..data.clone()
-        };
-        let Some(v) = judge(replica) else { continue };
-        zp += (wrap_180(v.psi_deg - truth.psi_deg) / v.sigma_psi_deg).powi(2);
-        za += ((v.amplitude_dph - truth.amplitude_dph) / v.sigma_amplitude_dph).powi(2);
-        k += 1;
-    }
+        })?;
+        let zp = wrap_180(v.psi_deg - truth.psi_deg) / v.sigma_psi_deg;
+        let za = (v.amplitude_dph - truth.amplitude_dph) / v.sigma_amplitude_dph;
+        Some((zp * zp, za * za))
+    };
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |c| c.get())
+        .min(replicates.max(1));
+    let z: Vec<(f64, f64)> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|w| s.spawn(move || (w..replicates).step_by(threads).filter_map(one).collect::<Vec<_>>()))
+            .collect();
+        workers.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect()
+    });
+    let k = z.len();
+    let (zp, za) = z.iter().fold((0.0, 0.0), |(p, a), (zp, za)| (p + zp, a + za));
     let usable = |s: f64| s.is_finite() && s > 0.0;
     // Never below 1: on white twin runs the replicates' errors came out at 0.82 of their
     // sigmas where the recordings' own were at 0.93; a factor below 1 is not trusted.
@@ -211,16 +223,16 @@ mod tests {
             amplitude_dph: 0.01f64.hypot(0.004),
             ..truth
         };
-        let half = calibrate(&d, &model, &r.fitted, &truth, judge_claiming(0.5)).unwrap();
-        assert_eq!(half.replicates, REPLICATES);
+        let half = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(0.5)).unwrap();
+        assert_eq!(half.replicates, usize::from(REPLICATES));
         // 40 replicates know an RMS to about 11 %.
         assert!((1.6..2.5).contains(&half.psi), "{half:?}");
         assert!((1.6..2.5).contains(&half.amplitude), "{half:?}");
-        let honest = calibrate(&d, &model, &r.fitted, &truth, judge_claiming(1.0)).unwrap();
+        let honest = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(1.0)).unwrap();
         assert!((1.0..1.25).contains(&honest.psi), "{honest:?}");
-        let wide = calibrate(&d, &model, &r.fitted, &truth, judge_claiming(3.0)).unwrap();
+        let wide = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(3.0)).unwrap();
         assert_eq!(wide.psi, 1.0, "a sigma is never scaled down");
-        let again = calibrate(&d, &model, &r.fitted, &truth, judge_claiming(0.5)).unwrap();
+        let again = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(0.5)).unwrap();
         assert_eq!(again, half, "the same data, the same calibration");
     }
 }

@@ -47,7 +47,7 @@ impl NoiseSource {
                         "; sigma scaled by {:.2} as {} replicates drawn from the estimate showed",
                         c.psi, c.replicates
                     ),
-                    None => "; sigma not calibrated (no replicate could be drawn)".into(),
+                    None => "; sigma not calibrated by replicates".into(),
                 };
                 format!(
                     "estimated from the recording ({from}REML on the dwell means in time order, {dof} dof){calibrated}"
@@ -104,7 +104,15 @@ pub fn dwell_of(rec: &Recording) -> (f64, &'static str) {
 }
 
 /// Fits `y` (the rates with the tilt correction removed) by GLS.
-pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoice) -> Result<NoiseFit, String> {
+/// An estimated noise model's sigma is calibrated by `replicates` bootstrap replicates (none:
+/// not calibrated).
+pub fn fit(
+    rec: &Recording,
+    y: &[f64],
+    cfg: &FitConfig<f64>,
+    choice: &NoiseChoice,
+    replicates: usize,
+) -> Result<NoiseFit, String> {
     let n = rec.rows.len();
     let t0 = rec.rows[0].t_s;
     let rows: Vec<_> = rec
@@ -144,7 +152,7 @@ pub fn fit(rec: &Recording, y: &[f64], cfg: &FitConfig<f64>, choice: &NoiseChoic
             let fitted: Vec<f64> = (0..n).map(|i| (0..p).map(|k| cols[k][i] * j.coef[k]).sum()).collect();
             // Replicates from the supported model, fitted the same way, calibrate the sigma.
             let judge_replica = |d: Data<'_>| noise_est::estimate(d).as_ref().and_then(judge).map(|j| j.verdict);
-            let calibration = noise_calib::calibrate(&data, &j.model, &fitted, &j.verdict, judge_replica);
+            let calibration = noise_calib::calibrate(&data, &j.model, &fitted, &j.verdict, replicates, judge_replica);
             let scale = calibration.map_or((1.0, 1.0), |c| (c.psi, c.amplitude));
             let v = Verdict {
                 sigma_psi_deg: j.verdict.sigma_psi_deg * scale.0,

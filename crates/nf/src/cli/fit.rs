@@ -3,6 +3,7 @@
 use super::noise_args::{NoiseArgs, colour_text};
 use super::{Fail, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
+use crate::noise_calib;
 use crate::noise_fit::NoiseChoice;
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
@@ -63,6 +64,10 @@ pub struct FitArgs {
     /// The gyro's noise model; without one it is estimated from the recording.
     #[command(flatten)]
     noise: NoiseArgs,
+    /// Bootstrap replicates that calibrate the sigma of a noise model estimated from the
+    /// recording (0: none; each costs about one more fit).
+    #[arg(long, allow_hyphen_values = true, default_value_t = noise_calib::REPLICATES, value_parser = clap::value_parser!(u16).range(0..=1000))]
+    replicates: u16,
 }
 
 pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
@@ -87,6 +92,7 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         } else {
             NoiseChoice::Estimate
         },
+        replicates: usize::from(a.replicates),
         ..Options::default()
     };
     let an = analyse(&rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
