@@ -61,7 +61,8 @@ pub fn calibrate(
         })?;
         let zp = wrap_180(v.psi_deg - truth.psi_deg) / v.sigma_psi_deg;
         let za = (v.amplitude_dph - truth.amplitude_dph) / v.sigma_amplitude_dph;
-        Some((zp * zp, za * za))
+        // A replicate whose fit gives no finite sigma says nothing of the scale.
+        (zp.is_finite() && za.is_finite()).then_some((zp * zp, za * za))
     };
     let threads = std::thread::available_parallelism()
         .map_or(1, |c| c.get())
