@@ -158,13 +158,16 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise.plausible);
     let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
-    // Structure is unexplained only when no plausible noise model explains it either.
+    // Structure is unexplained only when no plausible noise model explains it either, nor
+    // white noise: whole dwells that scatter more than their quarters say (shocks) make the
+    // estimate take flicker, whose whitening then anti-correlates neighbouring residuals.
     let level = opt.alpha * UNEXPLAINED_SHARE;
     let structure = [
         unexplained::test(&d, &sel.model, w, level),
+        unexplained::test(&d, &sel.model.rewhiten(&white), &white, level),
         unexplained::test(&d, &sel.model.rewhiten(&noise.cautious), &noise.cautious, level),
     ];
-    if let [Some(_), Some(s)] = structure {
+    if let [Some(_), Some(_), Some(s)] = structure {
         findings.push(Finding {
             effect: Kind::Unexplained,
             parameters: s.parameters,
