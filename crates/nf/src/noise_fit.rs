@@ -136,7 +136,7 @@ pub fn fit(
             let cov = Cov::of_windows(m, &t, &vec![dwell_s; n])
                 .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
             let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
-            (*m, NoiseSource::Given(s.clone()), Azimuth::of(&g.coef, &g.cov))
+            (*m, NoiseSource::Given(s.clone()), azimuth(&g.coef, &g.cov))
         }
         NoiseChoice::Estimate => {
             let data = Data {
@@ -199,12 +199,12 @@ struct Judged {
 fn judge(e: &Estimate) -> Option<Judged> {
     // The azimuth of the supported model: on white noise, least squares (the Cramer-Rao bound).
     let (supported, _) = e.supported();
-    let chosen = Azimuth::of(&supported.coef, &supported.cov);
+    let chosen = azimuth(&supported.coef, &supported.cov);
     let top = e.best.loglik;
     let per: Vec<(f64, Verdict)> = e
         .grid
         .iter()
-        .map(|c| ((c.loglik - top).exp(), Azimuth::of(&c.coef, &c.cov)))
+        .map(|c| ((c.loglik - top).exp(), azimuth(&c.coef, &c.cov)))
         .collect();
     let total: f64 = per.iter().map(|f| f.0).sum();
     let mean = |f: &dyn Fn(&Verdict) -> f64| per.iter().map(|(w, a)| w / total * f(a)).sum::<f64>();
@@ -223,21 +223,17 @@ fn judge(e: &Estimate) -> Option<Judged> {
 }
 
 /// Azimuth and amplitude of one fit's `C, A, B` and their covariance.
-struct Azimuth;
-
-impl Azimuth {
-    fn of(coef: &[f64], cov: &[Vec<f64>]) -> Verdict {
-        let (a, b) = (coef[1], coef[2]);
-        let r2 = a * a + b * b;
-        let (vaa, vbb, vab) = (cov[1][1], cov[2][2], cov[1][2]);
-        let var_psi = (b * b * vaa + a * a * vbb - 2.0 * a * b * vab) / (r2 * r2);
-        let var_amp = (a * a * vaa + b * b * vbb + 2.0 * a * b * vab) / r2;
-        Verdict {
-            psi_deg: atan2_deg(-b, a),
-            sigma_psi_deg: var_psi.max(0.0).sqrt().to_degrees(),
-            amplitude_dph: r2.sqrt(),
-            sigma_amplitude_dph: var_amp.max(0.0).sqrt(),
-        }
+fn azimuth(coef: &[f64], cov: &[Vec<f64>]) -> Verdict {
+    let (a, b) = (coef[1], coef[2]);
+    let r2 = a * a + b * b;
+    let (vaa, vbb, vab) = (cov[1][1], cov[2][2], cov[1][2]);
+    let var_psi = (b * b * vaa + a * a * vbb - 2.0 * a * b * vab) / (r2 * r2);
+    let var_amp = (a * a * vaa + b * b * vbb + 2.0 * a * b * vab) / r2;
+    Verdict {
+        psi_deg: atan2_deg(-b, a),
+        sigma_psi_deg: var_psi.max(0.0).sqrt().to_degrees(),
+        amplitude_dph: r2.sqrt(),
+        sigma_amplitude_dph: var_amp.max(0.0).sqrt(),
     }
 }
 
