@@ -223,30 +223,31 @@ impl Semisep {
     /// A whitening of `v` (in the caller's order): `P^T D^-1/2 L^-1 P v`, whose Gram matrix is
     /// the covariance's inverse.
     pub fn whiten(&self, v: &[f64]) -> Vec<f64> {
-        let r = self.r;
         let mut out = vec![0.0; v.len()];
-        let mut f = vec![0.0; r];
-        let mut prev = 0.0;
-        for (k, &i) in self.order.iter().enumerate() {
-            if k > 0 {
-                let (w, phi) = (&self.w[(k - 1) * r..k * r], &self.phi[k * r..(k + 1) * r]);
-                for a in 0..r {
-                    f[a] = phi[a] * (f[a] + w[a] * prev);
-                }
-            }
-            let u = &self.u[k * r..(k + 1) * r];
-            let z = v[i] - (0..r).map(|a| u[a] * f[a]).sum::<f64>();
+        self.forward(|k, i, carried| {
+            let z = v[i] - carried;
             out[i] = z / self.d[k].sqrt();
-            prev = z;
-        }
+            z
+        });
         out
     }
 
     /// The inverse of [`Semisep::whiten`]: `v` with `whiten(v) = z`. From independent unit
     /// normals `z` it draws the windows' means under the covariance.
     pub fn colour(&self, z: &[f64]) -> Vec<f64> {
-        let r = self.r;
         let mut out = vec![0.0; z.len()];
+        self.forward(|k, i, carried| {
+            let innovation = z[i] * self.d[k].sqrt();
+            out[i] = innovation + carried;
+            innovation
+        });
+        out
+    }
+
+    /// The recursion of `L`, forwards in time: `step(k, i, u_k . f_k)` for window `k` (the
+    /// caller's `i`) returns the window's innovation, which the carried vector `f` takes on.
+    fn forward(&self, mut step: impl FnMut(usize, usize, f64) -> f64) {
+        let r = self.r;
         let mut f = vec![0.0; r];
         let mut prev = 0.0;
         for (k, &i) in self.order.iter().enumerate() {
@@ -257,10 +258,8 @@ impl Semisep {
                 }
             }
             let u = &self.u[k * r..(k + 1) * r];
-            prev = z[i] * self.d[k].sqrt();
-            out[i] = prev + (0..r).map(|a| u[a] * f[a]).sum::<f64>();
+            prev = step(k, i, (0..r).map(|a| u[a] * f[a]).sum());
         }
-        out
     }
 
     /// `ln det Sigma`.
