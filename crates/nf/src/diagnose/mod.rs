@@ -162,12 +162,10 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     // white noise: whole dwells that scatter more than their quarters say (shocks) make the
     // estimate take flicker, whose whitening then anti-correlates neighbouring residuals.
     let level = opt.alpha * UNEXPLAINED_SHARE;
-    let structure = [
-        unexplained::test(&d, &sel.model, w, level),
-        unexplained::test(&d, &sel.model.rewhiten(&white), &white, level),
-        unexplained::test(&d, &sel.model.rewhiten(&noise.cautious), &noise.cautious, level),
-    ];
-    if let [Some(_), Some(_), Some(s)] = structure {
+    let structure = unexplained::test(&d, &sel.model, w, level)
+        .and_then(|_| unexplained::test(&d, &sel.model.rewhiten(&white), &white, level))
+        .and_then(|_| unexplained::test(&d, &sel.model.rewhiten(&noise.cautious), &noise.cautious, level));
+    if let Some(s) = structure {
         findings.push(Finding {
             effect: Kind::Unexplained,
             parameters: s.parameters,
