@@ -21,6 +21,7 @@ pub mod plan_noise;
 pub mod plot;
 pub mod range;
 pub mod recording;
+pub mod replicate;
 pub mod report;
 pub mod schedule;
 mod semisep;

@@ -9,11 +9,10 @@
 //! from the estimated noise model on the recording's own schedule, and fitted the same way,
 //! show by how much; the sigma is scaled by their RMS of error/sigma where that exceeds 1.
 
-use crate::gls::Cov;
 use crate::noise_est::Data;
+use crate::replicate::{self, Draw, seed_of};
 use nf_model::angle::wrap_180;
 use nf_model::noise::NoiseModel;
-use nf_model::rng::Rng;
 
 /// Replicates per calibration by default: the factor is then known to about 12 %.
 pub const REPLICATES: u16 = 40;
@@ -50,10 +49,8 @@ pub fn calibrate(
     judge: impl Fn(Data<'_>) -> Option<Verdict> + Sync,
 ) -> Option<Calibration> {
     let draw = Draw::new(data, model)?;
-    let seed = seed_of(data.y);
-    let one = |b: usize| {
-        let mut rng = Rng::new(seed ^ (b as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15));
-        let (y, quarters) = draw.replicate(&mut rng, fitted);
+    let z: Vec<(f64, f64)> = replicate::run(replicates, seed_of(data.y), |rng| {
+        let (y, quarters) = draw.replicate(rng, fitted);
         let v = judge(Data {
             y: &y,
             quarters: &quarters,
@@ -63,15 +60,6 @@ pub fn calibrate(
         let za = (v.amplitude_dph - truth.amplitude_dph) / v.sigma_amplitude_dph;
         // A replicate whose fit gives no finite sigma says nothing of the scale.
         (zp.is_finite() && za.is_finite()).then_some((zp * zp, za * za))
-    };
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |c| c.get())
-        .min(replicates.max(1));
-    let z: Vec<(f64, f64)> = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads)
-            .map(|w| s.spawn(move || (w..replicates).step_by(threads).filter_map(one).collect::<Vec<_>>()))
-            .collect();
-        workers.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect()
     });
     let k = z.len();
     let (zp, za) = z.iter().fold((0.0, 0.0), |(p, a), (zp, za)| (p + zp, a + za));
@@ -83,55 +71,6 @@ pub fn calibrate(
         psi: factor(zp),
         amplitude: factor(za),
         replicates: k,
-    })
-}
-
-/// Noise for the dwells of a recording: with quarters, the four quarter means of every dwell
-/// drawn jointly (the dwell mean is their mean); without, the dwell means.
-struct Draw {
-    cov: Cov,
-    quarters: usize,
-}
-
-impl Draw {
-    fn new(data: &Data<'_>, model: &NoiseModel) -> Option<Draw> {
-        let q = data.dwell_s / 4.0;
-        let cov = if data.quarters.is_empty() {
-            Cov::of_windows(model, data.t_s, &vec![data.dwell_s; data.t_s.len()])?
-        } else {
-            let t: Vec<f64> = data
-                .t_s
-                .iter()
-                .flat_map(|&t| (0..4).map(move |k| t + (k as f64 - 1.5) * q))
-                .collect();
-            Cov::of_windows(model, &t, &vec![q; t.len()])?
-        };
-        Some(Draw {
-            cov,
-            quarters: data.quarters.len(),
-        })
-    }
-
-    /// The dwell means and the quarters (of as many dwells as the recording has them).
-    fn replicate(&self, rng: &mut Rng, fitted: &[f64]) -> (Vec<f64>, Vec<[f64; 4]>) {
-        let n = fitted.len();
-        let m = if self.quarters == 0 { n } else { 4 * n };
-        let v = self.cov.colour(&(0..m).map(|_| rng.gauss()).collect::<Vec<_>>());
-        if self.quarters == 0 {
-            return (fitted.iter().zip(&v).map(|(f, e)| f + e).collect(), Vec::new());
-        }
-        let quarters: Vec<[f64; 4]> = (0..n)
-            .map(|i| core::array::from_fn(|k| fitted[i] + v[4 * i + k]))
-            .collect();
-        let y = quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect();
-        (y, quarters.into_iter().take(self.quarters).collect())
-    }
-}
-
-/// A seed from the data, so that a recording's calibration is the same at every fit of it.
-fn seed_of(y: &[f64]) -> u64 {
-    y.iter().fold(0xcbf2_9ce4_8422_2325, |h, v| {
-        (h ^ v.to_bits()).wrapping_mul(0x0100_0000_01b3)
     })
 }
 
@@ -169,31 +108,6 @@ mod tests {
             y: &r.fitted,
             quarters,
         }
-    }
-
-    #[test]
-    fn replicates_carry_the_model_in_the_dwell_means_and_the_quarters() {
-        let r = run();
-        let model = NoiseModel::white(0.005, 2.0);
-        let some = [[0.0; 4]; 10];
-        let draw = Draw::new(&data(&r, &some), &model).unwrap();
-        let mut rng = Rng::new(4);
-        let (mut dwell, mut quarter, mut k) = (0.0, 0.0, 0.0);
-        for _ in 0..400 {
-            let (y, q) = draw.replicate(&mut rng, &r.fitted);
-            assert_eq!(q.len(), 10, "as many dwells with quarters as the recording has");
-            for (i, q) in q.iter().enumerate() {
-                let mean = q.iter().sum::<f64>() / 4.0;
-                assert!((mean - y[i]).abs() < 1e-12, "a dwell mean is its quarters' mean");
-                quarter += q.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 3.0;
-            }
-            dwell += y.iter().zip(&r.fitted).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64;
-            k += 1.0;
-        }
-        // White noise of 0.005 deg/h for a 2 s mean: a quarter mean has twice that.
-        let (dwell, quarter) = ((dwell / k).sqrt(), (quarter / (10.0 * k)).sqrt());
-        assert!((dwell / 0.005 - 1.0).abs() < 0.03, "dwell means: {dwell}");
-        assert!((quarter / 0.010 - 1.0).abs() < 0.04, "quarters: {quarter}");
     }
 
     /// Least squares on the replicate, its sigma the true one times `claim`.

@@ -1,0 +1,146 @@
+//! Replicates of a recording drawn from a noise model on the recording's own schedule, for
+//! the parametric bootstraps of `nf fit`'s sigma and of `nf diagnose`'s drift tests.
+
+use crate::gls::Cov;
+use crate::noise_est::Data;
+use nf_model::noise::NoiseModel;
+use nf_model::rng::Rng;
+
+/// Noise for the dwells of a recording: with quarters, the four quarter means of every dwell
+/// drawn jointly (the dwell mean is their mean); without, the dwell means.
+pub struct Draw {
+    cov: Cov,
+    quarters: usize,
+}
+
+impl Draw {
+    pub fn new(data: &Data<'_>, model: &NoiseModel) -> Option<Draw> {
+        let q = data.dwell_s / 4.0;
+        let cov = if data.quarters.is_empty() {
+            Cov::of_windows(model, data.t_s, &vec![data.dwell_s; data.t_s.len()])?
+        } else {
+            let t: Vec<f64> = data
+                .t_s
+                .iter()
+                .flat_map(|&t| (0..4).map(move |k| t + (k as f64 - 1.5) * q))
+                .collect();
+            Cov::of_windows(model, &t, &vec![q; t.len()])?
+        };
+        Some(Draw {
+            cov,
+            quarters: data.quarters.len(),
+        })
+    }
+
+    /// The dwell means and the quarters (of as many dwells as the recording has them).
+    pub fn replicate(&self, rng: &mut Rng, fitted: &[f64]) -> (Vec<f64>, Vec<[f64; 4]>) {
+        let n = fitted.len();
+        let m = if self.quarters == 0 { n } else { 4 * n };
+        let v = self.cov.colour(&(0..m).map(|_| rng.gauss()).collect::<Vec<_>>());
+        if self.quarters == 0 {
+            return (fitted.iter().zip(&v).map(|(f, e)| f + e).collect(), Vec::new());
+        }
+        let quarters: Vec<[f64; 4]> = (0..n)
+            .map(|i| core::array::from_fn(|k| fitted[i] + v[4 * i + k]))
+            .collect();
+        let y = quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect();
+        (y, quarters.into_iter().take(self.quarters).collect())
+    }
+}
+
+/// A seed from the data, so that a recording's bootstrap is the same at every run of it.
+pub fn seed_of(y: &[f64]) -> u64 {
+    y.iter().fold(0xcbf2_9ce4_8422_2325, |h, v| {
+        (h ^ v.to_bits()).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// `one` of every replicate `0..replicates`, each with its own generator seeded from `seed`,
+/// on every core; the replicates that give nothing are left out.
+pub fn run<T: Send>(replicates: usize, seed: u64, one: impl Fn(&mut Rng) -> Option<T> + Sync) -> Vec<T> {
+    let one = &one;
+    let draw = move |b: usize| one(&mut Rng::new(seed ^ (b as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)));
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |c| c.get())
+        .min(replicates.max(1));
+    std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|w| s.spawn(move || (w..replicates).step_by(threads).filter_map(draw).collect::<Vec<_>>()))
+            .collect();
+        workers.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 48 dwells of 2 s, 2.5 s apart, and a signal on them.
+    struct Run {
+        t: Vec<f64>,
+        cols: Vec<Vec<f64>>,
+        fitted: Vec<f64>,
+    }
+
+    fn run() -> Run {
+        let n = 48;
+        let t: Vec<f64> = (0..n).map(|i| 10.0 + 2.5 * i as f64).collect();
+        let fitted: Vec<f64> = (0..n).map(|i| 0.3 + 0.01 * (i as f64 / 7.0).cos()).collect();
+        Run {
+            t,
+            cols: vec![vec![1.0; n]],
+            fitted,
+        }
+    }
+
+    fn data<'a>(r: &'a Run, quarters: &'a [[f64; 4]]) -> Data<'a> {
+        Data {
+            t_s: &r.t,
+            dwell_s: 2.0,
+            cols: &r.cols,
+            y: &r.fitted,
+            quarters,
+        }
+    }
+
+    #[test]
+    fn replicates_carry_the_model_in_the_dwell_means_and_the_quarters() {
+        let r = run();
+        let model = NoiseModel::white(0.005, 2.0);
+        let some = [[0.0; 4]; 10];
+        let draw = Draw::new(&data(&r, &some), &model).unwrap();
+        let mut rng = Rng::new(4);
+        let (mut dwell, mut quarter, mut k) = (0.0, 0.0, 0.0);
+        for _ in 0..400 {
+            let (y, q) = draw.replicate(&mut rng, &r.fitted);
+            assert_eq!(q.len(), 10, "as many dwells with quarters as the recording has");
+            for (i, q) in q.iter().enumerate() {
+                let mean = q.iter().sum::<f64>() / 4.0;
+                assert!((mean - y[i]).abs() < 1e-12, "a dwell mean is its quarters' mean");
+                quarter += q.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 3.0;
+            }
+            dwell += y.iter().zip(&r.fitted).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64;
+            k += 1.0;
+        }
+        // White noise of 0.005 deg/h for a 2 s mean: a quarter mean has twice that.
+        let (dwell, quarter) = ((dwell / k).sqrt(), (quarter / (10.0 * k)).sqrt());
+        assert!((dwell / 0.005 - 1.0).abs() < 0.03, "dwell means: {dwell}");
+        assert!((quarter / 0.010 - 1.0).abs() < 0.04, "quarters: {quarter}");
+    }
+
+    #[test]
+    fn runs_are_repeatable_and_skip_what_gives_nothing() {
+        let odd = |rng: &mut Rng| {
+            let v = rng.gauss();
+            (v > 0.0).then_some(v)
+        };
+        let a = super::run(50, 7, odd);
+        assert!(a.len() > 10 && a.len() < 40, "about half kept: {}", a.len());
+        assert!(a.iter().all(|v| *v > 0.0));
+        let mut b = super::run(50, 7, odd);
+        let mut a2 = a.clone();
+        a2.sort_by(f64::total_cmp);
+        b.sort_by(f64::total_cmp);
+        assert_eq!(a2, b, "the same seed, the same replicates");
+    }
+}
