@@ -130,8 +130,16 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         .collect();
     let cautious_model = most_coloured(d, &e, model);
     // The most likely model with a drift in the design. Its upper bound would be too
-    // cautious: beyond a curve, a modest random walk is hard to exclude.
-    let drift_model = with_drift.map_or(cautious_model, |e| e.best.model);
+    // cautious: beyond a curve, a modest random walk is hard to exclude. Flicker and walk
+    // only: a Gauss-Markov bias claims the wander bounded, and a drift judged under it is
+    // named wherever the run is longer than its time.
+    let drift_model = with_drift.map_or(cautious_model, |e| {
+        std::iter::once(&e.best)
+            .chain(&e.grid)
+            .filter(|c| Term::GaussMarkov.absent(&c.model))
+            .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
+            .map_or(e.best.model, |c| c.model)
+    });
     let plausible = plausible(&e)
         .into_iter()
         .map(|(w, m)| Ok((w, whitener_of(&m)?)))
