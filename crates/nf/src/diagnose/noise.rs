@@ -102,15 +102,17 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     // under which a drift or a jump is judged (below).
     let mut drifting = robust.clone();
     drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
+    let every = n.div_ceil(THINNED);
+    let thinned = Thinned::new(every, &d.t, y, [&robust, &drifting]);
     let mut both = noise_est::estimate_all(
         noise_est::Data {
-            t_s: &d.t,
+            t_s: &thinned.t_s,
             dwell_s,
-            cols: &robust,
-            y,
+            cols: &thinned.designs[0],
+            y: &thinned.y,
             quarters: &quarters,
         },
-        &[&drifting],
+        &[&thinned.designs[1]],
         noise_est::Colours::WithGaussMarkov,
     )
     .into_iter();
@@ -153,7 +155,11 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         cautious_model,
         source: format!(
             "estimated from the recording (REML on {} dwell means in time order{}, {} dof)",
-            n,
+            if every > 1 {
+                format!("{} of the {n} (one in {every})", thinned.t_s.len())
+            } else {
+                n.to_string()
+            },
             if quarters.is_empty() {
                 String::new()
             } else {
@@ -165,6 +171,35 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         terms,
         design: cols,
     })
+}
+
+/// Dwell means beyond this are thinned for the noise estimate, which then costs what a run of
+/// this many does: the slow noise shows in every `k`-th dwell mean over the whole run as well,
+/// and the fast in the quarters of every dwell, all of which are kept.
+const THINNED: usize = 2000;
+
+/// Every `every`-th dwell in time order, with its rows of each design; a column left with
+/// nothing (a burst's indicator on a dwell not kept) goes.
+struct Thinned {
+    t_s: Vec<f64>,
+    y: Vec<f64>,
+    designs: [Vec<Vec<f64>>; 2],
+}
+
+impl Thinned {
+    fn new(every: usize, t_s: &[f64], y: &[f64], designs: [&[Vec<f64>]; 2]) -> Thinned {
+        let keep = |v: &[f64]| -> Vec<f64> { v.iter().step_by(every).copied().collect() };
+        Thinned {
+            t_s: keep(t_s),
+            y: keep(y),
+            designs: designs.map(|cols| {
+                cols.iter()
+                    .map(|c| keep(c))
+                    .filter(|c| c.iter().any(|v| *v != 0.0))
+                    .collect()
+            }),
+        }
+    }
 }
 
 /// The flicker and walk models of the grid that carry at least 1 % of the best one's
@@ -287,4 +322,26 @@ pub fn findings(noise: &Noise, tails: &Tails, level: f64) -> Vec<Finding> {
         });
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Thinned;
+
+    #[test]
+    fn thinning_keeps_every_kth_row_and_drops_the_columns_it_empties() {
+        let t: Vec<f64> = (0..10).map(|i| i as f64).collect();
+        let ones = vec![1.0; 10];
+        let burst = |i: usize| (0..10).map(|k| f64::from(u8::from(k == i))).collect::<Vec<f64>>();
+        let (kept, dropped) = (burst(6), burst(7));
+        let a = vec![ones.clone(), kept.clone(), dropped.clone()];
+        let b = vec![ones, t.clone()];
+        let th = Thinned::new(3, &t, &t, [&a, &b]);
+        assert_eq!(th.t_s, vec![0.0, 3.0, 6.0, 9.0]);
+        assert_eq!(th.y, th.t_s);
+        assert_eq!(th.designs[0], vec![vec![1.0; 4], vec![0.0, 0.0, 1.0, 0.0]]);
+        assert_eq!(th.designs[1][1], th.t_s);
+        let all = Thinned::new(1, &t, &t, [&a, &b]);
+        assert_eq!(all.designs[0].len(), 3, "nothing thinned, nothing dropped");
+    }
 }

@@ -1,0 +1,72 @@
+//! `nf diagnose` on runs far longer than the twin's: the noise is estimated from one dwell mean
+//! in k (and the quarters of every dwell), so that a long run costs what 2000 positions do,
+//! and the result must still hold under the run's own noise.
+
+use nf::diagnose::{Options, diagnose};
+use nf::recording::Recording;
+use nf_model::rng::Rng;
+use std::fmt::Write;
+
+const LATITUDE_DEG: f64 = 43.8;
+const PSI_DEG: f64 = 65.5;
+/// White noise of a quarter-dwell mean, and the walk's step per position (1.2 s), deg/h.
+const QUARTER_SD: f64 = 0.02;
+const WALK_STEP: f64 = 0.0005;
+
+/// A sequential run turning 0.5 deg per position, 1 s dwells 1.2 s apart, white noise and a
+/// rate random walk, in the recording format.
+fn walk_run(n: usize, seed: u64) -> Recording {
+    let mut rng = Rng::new(seed);
+    let amplitude = 15.041_067 * LATITUDE_DEG.to_radians().cos();
+    let mut text = format!(
+        "# format = northfinder-recording/1\n# latitude_deg = {LATITUDE_DEG}\n# dwell_s = 1.000\n\
+         # sample_rate_hz = 1000\n# positions = {n}\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n"
+    );
+    let mut bias = 0.7;
+    for i in 0..n {
+        let gamma = (i as f64 * 0.5) % 360.0;
+        bias += WALK_STEP * rng.gauss();
+        let rate = amplitude * (gamma + PSI_DEG).to_radians().cos() + bias;
+        let q: [f64; 4] = core::array::from_fn(|_| rate + QUARTER_SD * rng.gauss());
+        let mean = q.iter().sum::<f64>() / 4.0;
+        let _ = writeln!(
+            text,
+            "{i},{:.3},{gamma:.7},{mean:.7},{:.7},{:.7},{:.7},{:.7}",
+            5.0 + 1.2 * i as f64,
+            q[0],
+            q[1],
+            q[2],
+            q[3]
+        );
+    }
+    Recording::parse(&text).unwrap()
+}
+
+#[test]
+fn a_long_random_walk_run_is_estimated_from_a_thinned_series_and_names_nothing() {
+    // The walk in IEEE units: a step of WALK_STEP per 1.2 s.
+    let k_true = WALK_STEP / (1.2f64 / 3600.0).sqrt();
+    let (mut z2, runs) = (0.0, 4);
+    for seed in 0..runs {
+        let d = diagnose(&walk_run(6000, 40 + seed), &Options::default()).unwrap();
+        assert!(
+            d.noise_source.contains("2000 of the 6000 (one in 3)"),
+            "{}",
+            d.noise_source
+        );
+        let named: Vec<&str> = d
+            .findings
+            .iter()
+            .filter(|f| !f.effect.is_noise())
+            .map(|f| f.effect.name())
+            .collect();
+        assert!(named.is_empty(), "seed {seed}: {named:?}");
+        // The drift and jump tests' model keeps the walk: flicker and walk only.
+        let k = d.drift_model.rrw_dph_rth;
+        assert!((k / k_true - 1.0).abs() < 0.3, "seed {seed}: K {k} against {k_true}");
+        let err = ((d.final_.azimuth_deg - PSI_DEG + 540.0) % 360.0 - 180.0) * 3600.0;
+        z2 += (err / d.final_.sigma_arcsec).powi(2);
+    }
+    let z = (z2 / runs as f64).sqrt();
+    assert!(z < 1.6, "RMS error/sigma {z}");
+}
