@@ -9,7 +9,7 @@
 //! matrix positive definite.
 
 use crate::linfit;
-use crate::semisep::Semisep;
+use crate::semisep::{Semisep, Windows};
 use nf_model::noise::NoiseModel;
 
 /// A symmetric positive definite matrix, factored.
@@ -50,11 +50,7 @@ impl Cov {
     /// (exact flicker, O(n^3)) when they overlap, up to [`DENSE_LIMIT`] windows. Defined up
     /// to a constant, like [`window_covariance`]: for designs with a constant column.
     pub fn of_windows(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Option<Cov> {
-        match Semisep::of_windows(model, t_s, dwell_s) {
-            Some(s) => Some(Cov::semiseparable(s)),
-            None if t_s.len() <= DENSE_LIMIT => Cov::new(&window_covariance(model, t_s, dwell_s), t_s.len()),
-            None => None,
-        }
+        WindowSet::new(t_s, dwell_s).cov(model)
     }
 
     pub fn semiseparable(s: Semisep) -> Cov {
@@ -174,6 +170,35 @@ fn cholesky(a: &[f64], n: usize, shift: f64) -> Option<Vec<f64>> {
         }
     }
     Some(l)
+}
+
+/// Windows whose covariance is wanted under several noise models: what the models share
+/// (flicker's ladder, every window's gains and decays) is worked out once.
+pub struct WindowSet {
+    t_s: Vec<f64>,
+    dwell_s: Vec<f64>,
+    /// `None` when the windows overlap or are not usable.
+    shared: Option<Windows>,
+}
+
+impl WindowSet {
+    pub fn new(t_s: &[f64], dwell_s: &[f64]) -> WindowSet {
+        WindowSet {
+            shared: Windows::new(t_s, dwell_s),
+            t_s: t_s.to_vec(),
+            dwell_s: dwell_s.to_vec(),
+        }
+    }
+
+    /// [`Cov::of_windows`] of these windows under `model`.
+    pub fn cov(&self, model: &NoiseModel) -> Option<Cov> {
+        let n = self.t_s.len();
+        match self.shared.as_ref().and_then(|w| w.factor(model)) {
+            Some(s) => Some(Cov::semiseparable(s)),
+            None if n <= DENSE_LIMIT => Cov::new(&window_covariance(model, &self.t_s, &self.dwell_s), n),
+            None => None,
+        }
+    }
 }
 
 /// A GLS fit.

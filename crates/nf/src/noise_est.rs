@@ -11,8 +11,7 @@
 //! fit, so that a caller can average over the noise models the recording allows instead of
 //! trusting one estimate.
 
-use crate::gls::{self, Cov};
-use crate::semisep::Windows;
+use crate::gls::{self, Cov, WindowSet};
 use crate::stats::chi2_sf;
 use nf_model::noise::NoiseModel;
 use std::f64::consts::FRAC_1_SQRT_2;
@@ -222,10 +221,8 @@ struct Problem<'a> {
     designs: Vec<&'a [Vec<f64>]>,
     /// Scatter of the quarter contrasts, summed over dwells.
     scatter: [[f64; 3]; 3],
-    /// Every dwell's length, s.
-    dwells: Vec<f64>,
-    /// What every model shares about the dwells, when they are apart (as in a recording).
-    windows: Option<Windows>,
+    /// The dwells, factored under every model looked at.
+    windows: WindowSet,
 }
 
 impl<'a> Problem<'a> {
@@ -239,11 +236,9 @@ impl<'a> Problem<'a> {
                 }
             }
         }
-        let dwells = vec![data.dwell_s; data.t_s.len()];
         Problem {
             designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
-            windows: Windows::new(data.t_s, &dwells),
-            dwells,
+            windows: WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]),
             data,
             scatter,
         }
@@ -283,11 +278,7 @@ impl<'a> Problem<'a> {
 
     /// The covariance of the dwell means at `at`, factored.
     fn cov(&self, at: Point) -> Option<Cov> {
-        let m = at.unit_model();
-        match &self.windows {
-            Some(w) => w.factor(&m).map(Cov::semiseparable),
-            None => Cov::of_windows(&m, self.data.t_s, &self.dwells),
-        }
+        self.windows.cov(&at.unit_model())
     }
 
     /// The profile under the factored covariance `cov` of `at`.

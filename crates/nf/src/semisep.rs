@@ -169,7 +169,9 @@ struct Row {
 
 impl Semisep {
     /// The covariance of the means of windows centred at `t_s` with lengths `dwell_s` under
-    /// `model`, factored; `None` as [`Windows::new`] and [`Windows::factor`] say.
+    /// `model`, factored; `None` as [`Windows::new`] and [`Windows::factor`] say. (The host
+    /// goes through `gls::WindowSet`, which keeps the windows for other models.)
+    #[cfg(test)]
     pub fn of_windows(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Option<Semisep> {
         Windows::new(t_s, dwell_s)?.factor(model)
     }

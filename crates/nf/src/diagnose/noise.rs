@@ -14,7 +14,7 @@ use super::model::Summary;
 use super::select::Finding;
 use super::tails::Tails;
 use super::whiten::Whitener;
-use crate::gls::Cov;
+use crate::gls::WindowSet;
 use crate::linfit;
 use crate::noise_est::{self, Candidate, Term};
 use crate::noise_fit::{NoiseChoice, dwell_of};
@@ -73,11 +73,13 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     let cols = design(d);
     let (dwell_s, _) = dwell_of(&d.rec);
     let n = d.n();
+    let windows = WindowSet::new(&d.t, &vec![dwell_s; n]);
     let whitener_of = |m: &NoiseModel| -> Result<Whitener, String> {
         if !m.is_coloured() {
             return Ok(Whitener::identity());
         }
-        Cov::of_windows(m, &d.t, &vec![dwell_s; n])
+        windows
+            .cov(m)
             .map(Whitener::of)
             .ok_or_else(|| "the noise model gives no usable covariance".to_string())
     };
