@@ -155,7 +155,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     }
     .run(start)?;
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
-    let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise.plausible);
+    let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
     let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either, nor
@@ -205,10 +205,14 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
 /// The averaged result with the noise model's own uncertainty added: the selected model is
 /// fitted under every noise model the recording allows and averaged by their likelihoods
 /// (as `nf fit` does), and the spread the model averaging added is kept on top.
-fn noise_averaged(averaged: Summary, selected: &Model, main: Summary, plausible: &[(f64, Whitener)]) -> Summary {
-    let fits: Vec<(f64, Summary)> = plausible
+fn noise_averaged(averaged: Summary, selected: &Model, main: Summary, noise: &noise::Noise) -> Summary {
+    let fits: Vec<(f64, Summary)> = noise
+        .plausible
         .iter()
-        .filter_map(|(w, wh)| Some((*w, summary(&selected.rewhiten(wh).fit()?))))
+        .filter_map(|(w, m)| {
+            let wh = noise.whitening.of(m).ok()?;
+            Some((*w, summary(&selected.rewhiten(&wh).fit()?)))
+        })
         .collect();
     let total: f64 = fits.iter().map(|f| f.0).sum();
     if fits.is_empty() || total <= 0.0 {

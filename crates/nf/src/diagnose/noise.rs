@@ -41,12 +41,30 @@ pub struct Noise {
     pub drift_model: NoiseModel,
     pub drift: Whitener,
     /// The noise models the recording allows, with their likelihood weights (summing to 1),
-    /// for the final sigma.
-    pub plausible: Vec<(f64, Whitener)>,
+    /// for the final sigma: factored one at a time, as a long recording's factor is large.
+    pub plausible: Vec<(f64, NoiseModel)>,
     pub source: String,
     pub terms: Vec<NoiseTerm>,
     /// The columns the noise was estimated under, for the test of its tails.
     pub design: Vec<Vec<f64>>,
+    pub whitening: Whitening,
+}
+
+/// The whitening of the recording's dwell means under any noise model.
+pub struct Whitening {
+    windows: WindowSet,
+}
+
+impl Whitening {
+    pub fn of(&self, m: &NoiseModel) -> Result<Whitener, String> {
+        if !m.is_coloured() {
+            return Ok(Whitener::identity());
+        }
+        self.windows
+            .cov(m)
+            .map(Whitener::of)
+            .ok_or_else(|| "the noise model gives no usable covariance".to_string())
+    }
 }
 
 /// The effects noise cannot make, as far as the positions allow: a third of them.
@@ -73,16 +91,10 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     let cols = design(d);
     let (dwell_s, _) = dwell_of(&d.rec);
     let n = d.n();
-    let windows = WindowSet::new(&d.t, &vec![dwell_s; n]);
-    let whitener_of = |m: &NoiseModel| -> Result<Whitener, String> {
-        if !m.is_coloured() {
-            return Ok(Whitener::identity());
-        }
-        windows
-            .cov(m)
-            .map(Whitener::of)
-            .ok_or_else(|| "the noise model gives no usable covariance".to_string())
+    let whitening = Whitening {
+        windows: WindowSet::new(&d.t, &vec![dwell_s; n]),
     };
+    let whitener_of = |m: &NoiseModel| whitening.of(m);
     if let NoiseChoice::Given(m, label) = choice {
         let given = whitener_of(m)?;
         return Ok(Noise {
@@ -92,10 +104,11 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             cautious: given.clone(),
             drift_model: *m,
             drift: given.clone(),
-            plausible: vec![(1.0, given)],
+            plausible: vec![(1.0, *m)],
             source: format!("given: {label}"),
             terms: Vec::new(),
             design: cols,
+            whitening,
         });
     }
     let quarters: Vec<[f64; 4]> = d.quarters.clone().unwrap_or_default();
@@ -144,12 +157,8 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
             .map_or(e.best.model, |c| c.model)
     });
-    let plausible = plausible(&e)
-        .into_iter()
-        .map(|(w, m)| Ok((w, whitener_of(&m)?)))
-        .collect::<Result<Vec<_>, String>>()?;
     Ok(Noise {
-        plausible,
+        plausible: plausible(&e),
         drift_model,
         drift: whitener_of(&drift_model)?,
         whitener: whitener_of(&model)?,
@@ -172,6 +181,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         model,
         terms,
         design: cols,
+        whitening,
     })
 }
 
