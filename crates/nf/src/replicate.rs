@@ -75,51 +75,32 @@ pub fn run<T: Send>(replicates: usize, seed: u64, one: impl Fn(&mut Rng) -> Opti
 mod tests {
     use super::*;
 
-    /// 48 dwells of 2 s, 2.5 s apart, and a signal on them.
-    struct Run {
-        t: Vec<f64>,
-        cols: Vec<Vec<f64>>,
-        fitted: Vec<f64>,
-    }
-
-    fn run() -> Run {
-        let n = 48;
-        let t: Vec<f64> = (0..n).map(|i| 10.0 + 2.5 * i as f64).collect();
-        let fitted: Vec<f64> = (0..n).map(|i| 0.3 + 0.01 * (i as f64 / 7.0).cos()).collect();
-        Run {
-            t,
-            cols: vec![vec![1.0; n]],
-            fitted,
-        }
-    }
-
-    fn data<'a>(r: &'a Run, quarters: &'a [[f64; 4]]) -> Data<'a> {
-        Data {
-            t_s: &r.t,
-            dwell_s: 2.0,
-            cols: &r.cols,
-            y: &r.fitted,
-            quarters,
-        }
-    }
-
     #[test]
     fn replicates_carry_the_model_in_the_dwell_means_and_the_quarters() {
-        let r = run();
-        let model = NoiseModel::white(0.005, 2.0);
+        // 48 dwells of 2 s, 2.5 s apart, a signal on them; 10 of them with quarters.
+        let t: Vec<f64> = (0..48).map(|i| 10.0 + 2.5 * i as f64).collect();
+        let fitted: Vec<f64> = (0..48).map(|i| 0.3 + 0.01 * (i as f64 / 7.0).cos()).collect();
         let some = [[0.0; 4]; 10];
-        let draw = Draw::new(&data(&r, &some), &model).unwrap();
+        let data = Data {
+            t_s: &t,
+            dwell_s: 2.0,
+            cols: &[],
+            y: &fitted,
+            quarters: &some,
+        };
+        let model = NoiseModel::white(0.005, 2.0);
+        let draw = Draw::new(&data, &model).unwrap();
         let mut rng = Rng::new(4);
         let (mut dwell, mut quarter, mut k) = (0.0, 0.0, 0.0);
         for _ in 0..400 {
-            let (y, q) = draw.replicate(&mut rng, &r.fitted);
+            let (y, q) = draw.replicate(&mut rng, &fitted);
             assert_eq!(q.len(), 10, "as many dwells with quarters as the recording has");
             for (i, q) in q.iter().enumerate() {
                 let mean = q.iter().sum::<f64>() / 4.0;
                 assert!((mean - y[i]).abs() < 1e-12, "a dwell mean is its quarters' mean");
                 quarter += q.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 3.0;
             }
-            dwell += y.iter().zip(&r.fitted).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64;
+            dwell += y.iter().zip(&fitted).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64;
             k += 1.0;
         }
         // White noise of 0.005 deg/h for a 2 s mean: a quarter mean has twice that.
