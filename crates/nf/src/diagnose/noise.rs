@@ -1,6 +1,7 @@
 //! The recording's own noise, before any effect is tested: white noise with flicker (bias
 //! instability) and rate random walk, or with a Gauss-Markov bias, estimated by REML
-//! (`crate::noise_est`) from the quarter means and the dwell means in time order. The REML
+//! (`crate::noise_est`) from the quarter means and the dwell means in time order (one in k of
+//! them past [`THINNED`] positions). The REML
 //! design holds the effects that noise cannot make (temperature, harmonics 2-4 of the angle),
 //! so that they are not taken for noise. It does not hold a drift: over one run a drift and a
 //! rate random walk are the same wander, and the null hypothesis of every test is that the
