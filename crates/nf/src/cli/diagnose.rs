@@ -16,9 +16,9 @@ use std::io::Write;
 
 mod json;
 
-/// Positions beyond which a diagnosis takes over a second on this machine (0.5 s at 2000,
-/// 1.1 s at 5000: it grows linearly).
-const SLOW_POSITIONS: usize = 4000;
+/// Positions beyond which a diagnosis takes about a second on this machine (0.67 s at 20 000,
+/// 2.1 s at 100 000: `examples/diagnose_bench.rs`).
+const SLOW_POSITIONS: usize = 30_000;
 
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
@@ -83,11 +83,11 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             NoiseChoice::Estimate
         },
     };
-    // Past this many positions a diagnosis takes more than a second (most of it the noise
-    // estimate's models), and a spinner says so (on a terminal only).
+    // Past this many positions a diagnosis takes more than a second, and a spinner says so
+    // (on a terminal only).
     let spinner = (rec.rows.len() > SLOW_POSITIONS).then(|| {
         let s = indicatif::ProgressBar::new_spinner();
-        s.set_message(format!("diagnosing {} positions: estimating the noise", rec.rows.len()));
+        s.set_message(format!("diagnosing {} positions", rec.rows.len()));
         s.enable_steady_tick(std::time::Duration::from_millis(120));
         s
     });
