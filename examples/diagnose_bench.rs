@@ -22,10 +22,10 @@ use std::time::Instant;
 const LATITUDE_DEG: f64 = 43.8;
 const PSI_DEG: f64 = 65.5;
 
-/// The bias wander of a bench recording.
+/// The bias wander of a bench recording (`White`: none, white noise only).
 #[derive(Debug, Clone, Copy)]
 enum Wander {
-    None,
+    White,
     Walk,
     Decades,
 }
@@ -42,7 +42,7 @@ fn recording(n: usize, seed: u64, wander: Wander) -> String {
     for i in 0..n {
         let gamma = (i as f64 * 0.5) % 360.0;
         match wander {
-            Wander::None => {}
+            Wander::White => {}
             Wander::Walk => bias += 0.0005 * rng.gauss(),
             Wander::Decades => {
                 for (k, g) in terms.iter_mut().enumerate() {
@@ -75,7 +75,7 @@ fn error_arcsec(azimuth_deg: f64) -> f64 {
 
 fn honesty(n: usize, runs: u64) {
     println!("{n} positions, {runs} runs: RMS error, RMS sigma, RMS error/sigma, effects named");
-    for wander in [Wander::None, Wander::Walk, Wander::Decades] {
+    for wander in [Wander::White, Wander::Walk, Wander::Decades] {
         let (mut e2, mut s2, mut z2) = (0.0, 0.0, 0.0);
         let mut named: BTreeMap<&str, usize> = BTreeMap::new();
         for seed in 1..=runs {
