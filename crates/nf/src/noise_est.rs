@@ -422,6 +422,41 @@ impl Grid {
     }
 }
 
+/// Dwell means beyond this are thinned for an estimate, which then costs what a run of this
+/// many does: the slow noise shows in one dwell mean in k over the whole run as well, and the
+/// fast in the quarters of every dwell, all of which are kept.
+pub const THINNED: usize = 2000;
+
+/// One row in `every` (`every` the least that leaves at most [`THINNED`]), with its rows of
+/// each design; a column left with nothing (a burst's indicator on a row not kept) goes.
+pub struct Thinned {
+    pub every: usize,
+    pub t_s: Vec<f64>,
+    pub y: Vec<f64>,
+    pub designs: Vec<Vec<Vec<f64>>>,
+}
+
+impl Thinned {
+    pub fn new(t_s: &[f64], y: &[f64], designs: &[&[Vec<f64>]]) -> Thinned {
+        let every = t_s.len().div_ceil(THINNED).max(1);
+        let keep = |v: &[f64]| -> Vec<f64> { v.iter().step_by(every).copied().collect() };
+        Thinned {
+            every,
+            t_s: keep(t_s),
+            y: keep(y),
+            designs: designs
+                .iter()
+                .map(|cols| {
+                    cols.iter()
+                        .map(|c| keep(c))
+                        .filter(|c| c.iter().any(|v| *v != 0.0))
+                        .collect()
+                })
+                .collect(),
+        }
+    }
+}
+
 /// A grid point this far below the best log-likelihood weighs under 1e-5 of it: its
 /// neighbours are not looked at.
 const NEGLIGIBLE: f64 = 12.0;
@@ -530,6 +565,30 @@ fn refine(p: &Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<Estim
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn thinning_keeps_one_row_in_k_and_drops_the_columns_it_empties() {
+        let n = 3 * THINNED;
+        let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let ones = vec![1.0; n];
+        let burst = |i: usize| (0..n).map(|k| f64::from(u8::from(k == i))).collect::<Vec<f64>>();
+        let a = vec![ones.clone(), burst(3000), burst(3001)];
+        let b = vec![ones, t.clone()];
+        let th = Thinned::new(&t, &t, &[&a, &b]);
+        assert_eq!(th.every, 3);
+        assert_eq!(th.t_s.len(), THINNED);
+        assert_eq!(th.t_s[..3], [0.0, 3.0, 6.0]);
+        assert_eq!(th.y, th.t_s);
+        assert_eq!(th.designs[0].len(), 2, "the burst on a row not kept goes");
+        assert_eq!(th.designs[0][1].iter().sum::<f64>(), 1.0);
+        assert_eq!(th.designs[1][1], th.t_s);
+        let short = Thinned::new(&t[..THINNED], &t[..THINNED], &[&[t[..THINNED].to_vec()]]);
+        assert_eq!(
+            (short.every, short.t_s.len()),
+            (1, THINNED),
+            "nothing thinned up to THINNED"
+        );
+    }
     use nf_model::rng::Rng;
 
     struct Run {

@@ -1,9 +1,9 @@
 //! The azimuth by generalised least squares under a gyro noise model, given or estimated from
 //! the recording, and the check that the Earth rate was resolved at all.
 
-use crate::gls::{self, Cov};
+use crate::gls::{self, Cov, WindowSet};
 use crate::noise_calib::{self, Calibration, Verdict};
-use crate::noise_est::{self, Data, Estimate};
+use crate::noise_est::{self, Candidate, Data, Estimate, Thinned};
 use crate::recording::Recording;
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
@@ -24,6 +24,8 @@ pub enum NoiseSource {
     Estimated {
         dof: usize,
         from_quarters: usize,
+        /// The estimate saw one dwell mean in this many (1: all of them).
+        one_in: usize,
         /// The parametric bootstrap that scaled the sigmas, when it could be run.
         calibration: Option<Calibration>,
     },
@@ -36,6 +38,7 @@ impl NoiseSource {
             NoiseSource::Estimated {
                 dof,
                 from_quarters,
+                one_in,
                 calibration,
             } => {
                 let from = match from_quarters {
@@ -49,9 +52,11 @@ impl NoiseSource {
                     ),
                     None => "; sigma not calibrated by replicates".into(),
                 };
-                format!(
-                    "estimated from the recording ({from}REML on the dwell means in time order, {dof} dof){calibrated}"
-                )
+                let means = match one_in {
+                    1 => "the dwell means".to_string(),
+                    k => format!("one in {k} of the dwell means"),
+                };
+                format!("estimated from the recording ({from}REML on {means} in time order, {dof} dof){calibrated}")
             }
             NoiseSource::Given(s) => format!("given: {s}"),
         }
@@ -146,12 +151,12 @@ pub fn fit(
                 y,
                 quarters: &quarters,
             };
-            let e =
-                noise_est::estimate(data.clone()).ok_or("the noise model could not be estimated from the recording")?;
+            let (e, one_in) =
+                estimate(data.clone()).ok_or("the noise model could not be estimated from the recording")?;
             let j = judge(&e).ok_or("no noise model fits")?;
             let fitted: Vec<f64> = (0..n).map(|i| (0..p).map(|k| cols[k][i] * j.coef[k]).sum()).collect();
             // Replicates from the supported model, fitted the same way, calibrate the sigma.
-            let judge_replica = |d: Data<'_>| noise_est::estimate(d).as_ref().and_then(judge).map(|j| j.verdict);
+            let judge_replica = |d: Data<'_>| estimate(d).and_then(|(e, _)| judge(&e)).map(|j| j.verdict);
             let calibration = noise_calib::calibrate(&data, &j.model, &fitted, &j.verdict, replicates, judge_replica);
             let scale = calibration.map_or((1.0, 1.0), |c| (c.psi, c.amplitude));
             let v = Verdict {
@@ -162,6 +167,7 @@ pub fn fit(
             let source = NoiseSource::Estimated {
                 dof: e.dof,
                 from_quarters: quarters.len(),
+                one_in,
                 calibration,
             };
             (j.model, source, v)
@@ -185,6 +191,48 @@ pub fn fit(
         dof: g.dof,
     })
 }
+
+/// The noise estimate and how thinned it was (one dwell mean in k). Past
+/// [`noise_est::THINNED`] rows the noise is estimated from one dwell mean in k and every
+/// quarter, and the models that carry weight are refitted on every row: the azimuth comes
+/// from their fits.
+fn estimate(data: Data<'_>) -> Option<(Estimate, usize)> {
+    if data.t_s.len() <= noise_est::THINNED {
+        return noise_est::estimate(data).map(|e| (e, 1));
+    }
+    let th = Thinned::new(data.t_s, data.y, &[data.cols]);
+    let e = noise_est::estimate(Data {
+        t_s: &th.t_s,
+        y: &th.y,
+        cols: &th.designs[0],
+        ..data.clone()
+    })?;
+    let windows = WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]);
+    let refit = |c: Candidate| -> Option<Candidate> {
+        let g = gls::fit(data.cols, data.y, &windows.cov(&c.model)?)?;
+        Some(Candidate {
+            coef: g.coef,
+            cov: g.cov,
+            ..c
+        })
+    };
+    // Against the grid's own best: the refined best may stand far above every grid model.
+    let top = e.grid.iter().map(|c| c.loglik).fold(f64::MIN, f64::max);
+    let e = Estimate {
+        best: refit(e.best)?,
+        grid: e
+            .grid
+            .into_iter()
+            .filter(|c| c.loglik - top > NEGLIGIBLE.ln())
+            .filter_map(refit)
+            .collect(),
+        dof: e.dof,
+    };
+    Some((e, th.every))
+}
+
+/// A grid model under this share of the grid's best likelihood is not refitted on every row.
+const NEGLIGIBLE: f64 = 1e-3;
 
 /// What the estimate makes of a recording: the model the likelihood supports, its fit's
 /// coefficients and azimuth, and the variance of the most likely model plus the spread of the

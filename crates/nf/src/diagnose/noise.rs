@@ -1,7 +1,7 @@
 //! The recording's own noise, before any effect is tested: white noise with flicker (bias
 //! instability) and rate random walk, or with a Gauss-Markov bias, estimated by REML
 //! (`crate::noise_est`) from the quarter means and the dwell means in time order (one in k of
-//! them past [`THINNED`] positions). The REML
+//! them past `noise_est::THINNED` positions). The REML
 //! design holds the effects that noise cannot make (temperature, harmonics 2-4 of the angle),
 //! so that they are not taken for noise. It does not hold a drift: over one run a drift and a
 //! rate random walk are the same wander, and the null hypothesis of every test is that the
@@ -17,7 +17,7 @@ use super::tails::Tails;
 use super::whiten::Whitener;
 use crate::gls::WindowSet;
 use crate::linfit;
-use crate::noise_est::{self, Candidate, Term};
+use crate::noise_est::{self, Candidate, Term, Thinned};
 use crate::noise_fit::{NoiseChoice, dwell_of};
 use nf_model::noise::NoiseModel;
 
@@ -118,8 +118,8 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     // under which a drift or a jump is judged (below).
     let mut drifting = robust.clone();
     drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
-    let every = n.div_ceil(THINNED);
-    let thinned = Thinned::new(every, &d.t, y, [&robust, &drifting]);
+    let thinned = Thinned::new(&d.t, y, &[&robust, &drifting]);
+    let every = thinned.every;
     let mut both = noise_est::estimate_all(
         noise_est::Data {
             t_s: &thinned.t_s,
@@ -184,35 +184,6 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         design: cols,
         whitening,
     })
-}
-
-/// Dwell means beyond this are thinned for the noise estimate, which then costs what a run of
-/// this many does: the slow noise shows in every `k`-th dwell mean over the whole run as well,
-/// and the fast in the quarters of every dwell, all of which are kept.
-const THINNED: usize = 2000;
-
-/// Every `every`-th dwell in time order, with its rows of each design; a column left with
-/// nothing (a burst's indicator on a dwell not kept) goes.
-struct Thinned {
-    t_s: Vec<f64>,
-    y: Vec<f64>,
-    designs: [Vec<Vec<f64>>; 2],
-}
-
-impl Thinned {
-    fn new(every: usize, t_s: &[f64], y: &[f64], designs: [&[Vec<f64>]; 2]) -> Thinned {
-        let keep = |v: &[f64]| -> Vec<f64> { v.iter().step_by(every).copied().collect() };
-        Thinned {
-            t_s: keep(t_s),
-            y: keep(y),
-            designs: designs.map(|cols| {
-                cols.iter()
-                    .map(|c| keep(c))
-                    .filter(|c| c.iter().any(|v| *v != 0.0))
-                    .collect()
-            }),
-        }
-    }
 }
 
 /// The flicker and walk models of the grid that carry at least 1 % of the best one's
@@ -335,26 +306,4 @@ pub fn findings(noise: &Noise, tails: &Tails, level: f64) -> Vec<Finding> {
         });
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Thinned;
-
-    #[test]
-    fn thinning_keeps_every_kth_row_and_drops_the_columns_it_empties() {
-        let t: Vec<f64> = (0..10).map(|i| i as f64).collect();
-        let ones = vec![1.0; 10];
-        let burst = |i: usize| (0..10).map(|k| f64::from(u8::from(k == i))).collect::<Vec<f64>>();
-        let (kept, dropped) = (burst(6), burst(7));
-        let a = vec![ones.clone(), kept.clone(), dropped.clone()];
-        let b = vec![ones, t.clone()];
-        let th = Thinned::new(3, &t, &t, [&a, &b]);
-        assert_eq!(th.t_s, vec![0.0, 3.0, 6.0, 9.0]);
-        assert_eq!(th.y, th.t_s);
-        assert_eq!(th.designs[0], vec![vec![1.0; 4], vec![0.0, 0.0, 1.0, 0.0]]);
-        assert_eq!(th.designs[1][1], th.t_s);
-        let all = Thinned::new(1, &t, &t, [&a, &b]);
-        assert_eq!(all.designs[0].len(), 3, "nothing thinned, nothing dropped");
-    }
 }

@@ -1,7 +1,8 @@
-//! `nf diagnose` on runs far longer than the twin's: the noise is estimated from one dwell mean
-//! in k (and the quarters of every dwell), so that a long run costs what 2000 positions do,
-//! and the result must still hold under the run's own noise.
+//! `nf diagnose` and `nf fit` on runs far longer than the twin's: the noise is estimated from
+//! one dwell mean in k (and the quarters of every dwell), so that a long run costs what 2000
+//! positions do, and the result must still hold under the run's own noise.
 
+use nf::analysis::{self, analyse};
 use nf::diagnose::{Options, diagnose};
 use nf::recording::Recording;
 use nf_model::rng::Rng;
@@ -66,6 +67,26 @@ fn a_long_random_walk_run_is_estimated_from_a_thinned_series_and_names_nothing()
         assert!((k / k_true - 1.0).abs() < 0.3, "seed {seed}: K {k} against {k_true}");
         let err = ((d.final_.azimuth_deg - PSI_DEG + 540.0) % 360.0 - 180.0) * 3600.0;
         z2 += (err / d.final_.sigma_arcsec).powi(2);
+    }
+    let z = (z2 / runs as f64).sqrt();
+    assert!(z < 1.6, "RMS error/sigma {z}");
+}
+
+#[test]
+fn nf_fit_of_a_long_random_walk_run_estimates_from_a_thinned_series_and_fits_every_row() {
+    let opt = analysis::Options {
+        replicates: 0,
+        ..analysis::Options::default()
+    };
+    let (mut z2, runs) = (0.0, 4);
+    for seed in 0..runs {
+        let g = analyse(&walk_run(6000, 60 + seed), &opt).unwrap().gls;
+        let source = g.source.describe();
+        assert!(source.contains("one in 3 of the dwell means"), "{source}");
+        // Every row is fitted: the dof of the whitened residuals are those of 6000 positions.
+        assert_eq!(g.dof, 6000 - 3);
+        let err = ((g.psi_deg - PSI_DEG + 540.0) % 360.0 - 180.0) * 3600.0;
+        z2 += (err / (g.sigma_psi_deg * 3600.0)).powi(2);
     }
     let z = (z2 / runs as f64).sqrt();
     assert!(z < 1.6, "RMS error/sigma {z}");
