@@ -100,13 +100,13 @@ mod tests {
         Run { t, cols, fitted }
     }
 
-    fn data<'a>(r: &'a Run, quarters: &'a [[f64; 4]]) -> Data<'a> {
+    fn data(r: &Run) -> Data<'_> {
         Data {
             t_s: &r.t,
             dwell_s: 2.0,
             cols: &r.cols,
             y: &r.fitted,
-            quarters,
+            quarters: &[],
         }
     }
 
@@ -131,7 +131,7 @@ mod tests {
     fn a_sigma_claimed_too_small_is_scaled_up_and_an_honest_one_is_kept() {
         let r = run();
         let model = NoiseModel::white(0.005, 2.0);
-        let d = data(&r, &[]);
+        let d = data(&r);
         let truth = judge_claiming(1.0)(d.clone()).unwrap();
         let truth = Verdict {
             psi_deg: atan2_deg(0.004, 0.01),

@@ -565,6 +565,7 @@ fn refine(p: &Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<Estim
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nf_model::rng::Rng;
 
     #[test]
     fn thinning_keeps_one_row_in_k_and_drops_the_columns_it_empties() {
@@ -589,7 +590,6 @@ mod tests {
             "nothing thinned up to THINNED"
         );
     }
-    use nf_model::rng::Rng;
 
     struct Run {
         t: Vec<f64>,
