@@ -76,6 +76,11 @@ pub fn random_case(rng: &mut Rng, site: &Site, order: Order) -> Case {
         tilt_correction: false,
         ..RunConfig::default()
     };
+    // The temperature wanders a little in every run (a warm-up ramp and a slow cycle) and moves
+    // the bias only where a thermal drift is concealed: the thermal test's false alarms.
+    let duration = run_duration_s(&run);
+    twin.temp_ramp_c_per_s = rng.uniform(-0.5, 0.5) / duration;
+    twin.temp_wave = (log_uniform(rng, 0.05, 1.0), duration / rng.uniform(0.5, 3.0));
     Case {
         twin,
         run,
@@ -100,9 +105,9 @@ impl Case {
         self.run.order.visits(self.run.positions) as usize
     }
 
-    /// The run's length, s, near enough for sizing drifts (a move and settling take about 0.35 s).
+    /// The run's length, s (see [`run_duration_s`]).
     pub fn duration_s(&self) -> f64 {
-        self.visits() as f64 * (DWELL_S + 0.35)
+        run_duration_s(&self.run)
     }
 
     /// The recording as the host reads it, after the dwell shifts and the damage.
@@ -120,6 +125,11 @@ impl Case {
         // The twin always writes a valid recording; a failed parse would be a bug of the suite.
         Recording::parse(&text).expect("twin recordings parse")
     }
+}
+
+/// A run's length, s, near enough for sizing drifts (a move and settling take about 0.35 s).
+fn run_duration_s(run: &RunConfig) -> f64 {
+    run.order.visits(run.positions) as f64 * (DWELL_S + 0.35)
 }
 
 /// The recording's text, and the twin time (s) at which its `t_s` is 0.
