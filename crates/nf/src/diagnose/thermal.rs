@@ -1,4 +1,7 @@
-//! `thermal_drift`: the bias follows the recorded temperature.
+//! `thermal_drift`: the bias follows the recorded temperature. Judged under the drift
+//! design's noise model, as drift and jump are: the three are rival explanations of one
+//! wander of the bias with time, and a rival judged under a more coloured model loses to the
+//! others whatever the data say.
 
 use super::effect::{Effect, Proposal, State, param};
 use super::kind::Kind;
@@ -20,7 +23,7 @@ impl Effect for ThermalDrift {
         if dt.iter().all(|v| v.abs() < 1e-6) {
             return Vec::new();
         }
-        s.cautious
+        s.drift
             .nested(
                 Kind::ThermalDrift,
                 vec![dt],
