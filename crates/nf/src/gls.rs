@@ -11,6 +11,7 @@
 use crate::linfit;
 use crate::semisep::{Semisep, Windows};
 use nf_model::noise::NoiseModel;
+use std::sync::Arc;
 
 /// A symmetric positive definite matrix, factored.
 #[derive(Debug, Clone)]
@@ -178,13 +179,13 @@ pub struct WindowSet {
     t_s: Vec<f64>,
     dwell_s: Vec<f64>,
     /// `None` when the windows overlap or are not usable.
-    shared: Option<Windows>,
+    shared: Option<Arc<Windows>>,
 }
 
 impl WindowSet {
     pub fn new(t_s: &[f64], dwell_s: &[f64]) -> WindowSet {
         WindowSet {
-            shared: Windows::new(t_s, dwell_s),
+            shared: Windows::new(t_s, dwell_s).map(Arc::new),
             t_s: t_s.to_vec(),
             dwell_s: dwell_s.to_vec(),
         }

@@ -16,6 +16,7 @@
 
 use nf_model::noise::NoiseModel;
 use std::f64::consts::LN_10;
+use std::sync::Arc;
 
 /// Flicker's Gauss-Markov terms per decade of correlation time.
 const PER_DECADE: i32 = 2;
@@ -49,17 +50,24 @@ pub struct Windows {
     ladder_var: Vec<f64>,
 }
 
-/// The `L D L^T` factor of a semiseparable covariance, windows in time order.
+/// The `L D L^T` factor of a semiseparable covariance, windows in time order. `L`'s
+/// generators, `L_ij = u_i . (phi_{j+1..i} w_j)`, are `r` per window: flicker's rungs first,
+/// read from the shared windows (a million windows' rungs take a quarter of a gigabyte), then
+/// the Gauss-Markov and walk terms, kept here.
 #[derive(Debug, Clone)]
 pub struct Semisep {
-    order: Vec<usize>,
+    windows: Arc<Windows>,
+    /// Flicker's rungs in use (none or all of the windows'), and their common sd.
+    rungs: usize,
+    rung_sd: f64,
     /// Rank of the off-diagonal part.
     r: usize,
-    /// `D`, and the generators of `L` (n x r, row-major): `L_ij = u_i . (phi_{j+1..i} w_j)`.
+    /// `D`, and `w` (n x r, row-major).
     d: Vec<f64>,
-    u: Vec<f64>,
     w: Vec<f64>,
-    phi: Vec<f64>,
+    /// `u` and `phi` of the terms after the rungs (n x (r - rungs)).
+    extra_u: Vec<f64>,
+    extra_phi: Vec<f64>,
 }
 
 impl Windows {
@@ -116,7 +124,7 @@ impl Windows {
 
     /// The covariance of the window means under `model`, factored. `None` when it is not
     /// numerically positive definite.
-    pub fn factor(&self, model: &NoiseModel) -> Option<Semisep> {
+    pub fn factor(self: &Arc<Self>, model: &NoiseModel) -> Option<Semisep> {
         // Every rung of flicker's ladder has the variance `h ln 10 / PER_DECADE`.
         let rung_var = 2.0 * model.flicker_h() * LN_10 / PER_DECADE as f64;
         let m = if rung_var > 0.0 { self.rungs.len() } else { 0 };
@@ -155,7 +163,7 @@ impl Windows {
                 row.phi[j] = 1.0;
             }
         };
-        Semisep::factor(self.order.clone(), r, fill)
+        Semisep::factor(Arc::clone(self), m, rung_sd, r, fill)
     }
 }
 
@@ -173,20 +181,29 @@ impl Semisep {
     /// goes through `gls::WindowSet`, which keeps the windows for other models.)
     #[cfg(test)]
     pub fn of_windows(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Option<Semisep> {
-        Windows::new(t_s, dwell_s)?.factor(model)
+        Arc::new(Windows::new(t_s, dwell_s)?).factor(model)
     }
 
     /// The recursion of the `L D L^T` factor, one window at a time; `fill` writes a window's
-    /// row of the generators.
-    fn factor(order: Vec<usize>, r: usize, fill: impl Fn(usize, &mut Row)) -> Option<Semisep> {
-        let n = order.len();
+    /// row of the generators, its first `rungs` as [`Semisep::generators`] reads them back.
+    fn factor(
+        windows: Arc<Windows>,
+        rungs: usize,
+        rung_sd: f64,
+        r: usize,
+        fill: impl Fn(usize, &mut Row),
+    ) -> Option<Semisep> {
+        let n = windows.order.len();
+        let e = r - rungs;
         let mut f = Semisep {
-            order,
+            windows,
+            rungs,
+            rung_sd,
             r,
             d: Vec::with_capacity(n),
-            u: Vec::with_capacity(n * r),
             w: Vec::with_capacity(n * r),
-            phi: Vec::with_capacity(n * r),
+            extra_u: Vec::with_capacity(n * e),
+            extra_phi: Vec::with_capacity(n * e),
         };
         let mut row = Row {
             diag: 0.0,
@@ -216,10 +233,23 @@ impl Semisep {
             }
             f.d.push(d);
             f.w.extend((0..r).map(|a| (row.v[a] - su[a]) / d));
-            f.u.extend_from_slice(&row.u);
-            f.phi.extend_from_slice(&row.phi);
+            f.extra_u.extend_from_slice(&row.u[rungs..]);
+            f.extra_phi.extend_from_slice(&row.phi[rungs..]);
         }
         Some(f)
+    }
+
+    /// Window `k`'s `u` and `phi` (time order).
+    fn generators(&self, k: usize, u: &mut [f64], phi: &mut [f64]) {
+        let all = self.windows.rungs.len();
+        let (gain, decay) = (&self.windows.gain[k * all..], &self.windows.decay[k * all..]);
+        for j in 0..self.rungs {
+            u[j] = self.rung_sd * gain[j];
+            phi[j] = decay[j];
+        }
+        let e = self.r - self.rungs;
+        u[self.rungs..].copy_from_slice(&self.extra_u[k * e..(k + 1) * e]);
+        phi[self.rungs..].copy_from_slice(&self.extra_phi[k * e..(k + 1) * e]);
     }
 
     /// A whitening of `v` (in the caller's order): `P^T D^-1/2 L^-1 P v`, whose Gram matrix is
@@ -250,16 +280,16 @@ impl Semisep {
     /// caller's `i`) returns the window's innovation, which the carried vector `f` takes on.
     fn forward(&self, mut step: impl FnMut(usize, usize, f64) -> f64) {
         let r = self.r;
-        let mut f = vec![0.0; r];
+        let (mut f, mut u, mut phi) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
         let mut prev = 0.0;
-        for (k, &i) in self.order.iter().enumerate() {
+        for (k, &i) in self.windows.order.iter().enumerate() {
+            self.generators(k, &mut u, &mut phi);
             if k > 0 {
-                let (w, phi) = (&self.w[(k - 1) * r..k * r], &self.phi[k * r..(k + 1) * r]);
+                let w = &self.w[(k - 1) * r..k * r];
                 for a in 0..r {
                     f[a] = phi[a] * (f[a] + w[a] * prev);
                 }
             }
-            let u = &self.u[k * r..(k + 1) * r];
             prev = step(k, i, (0..r).map(|a| u[a] * f[a]).sum());
         }
     }
@@ -272,18 +302,20 @@ impl Semisep {
     /// `W^T v` for the whitening `W` of [`Semisep::whiten`]: its adjoint, backwards in time.
     pub fn adjoint(&self, v: &[f64]) -> Vec<f64> {
         let r = self.r;
-        let n = self.order.len();
+        let n = self.d.len();
         let mut out = vec![0.0; n];
         // The costate of the whitening's carried vector `f`.
         let mut lambda = vec![0.0; r];
         let mut carried = vec![0.0; r];
+        // `phi` of the window after this one.
+        let (mut u, mut phi, mut next_phi) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
         for k in (0..n).rev() {
-            let i = self.order[k];
-            let (u, w) = (&self.u[k * r..(k + 1) * r], &self.w[k * r..(k + 1) * r]);
+            let i = self.windows.order[k];
+            self.generators(k, &mut u, &mut phi);
+            let w = &self.w[k * r..(k + 1) * r];
             if k + 1 < n {
-                let phi = &self.phi[(k + 1) * r..(k + 2) * r];
                 for a in 0..r {
-                    carried[a] = phi[a] * lambda[a];
+                    carried[a] = next_phi[a] * lambda[a];
                 }
             } else {
                 carried.fill(0.0);
@@ -294,6 +326,7 @@ impl Semisep {
             for a in 0..r {
                 lambda[a] = carried[a] - u[a] * (scaled + t);
             }
+            std::mem::swap(&mut phi, &mut next_phi);
         }
         out
     }
@@ -304,15 +337,16 @@ impl Semisep {
     /// quadratic `f^T G f - 2 g^T f + c` of the carried vector `f` it meets there.
     pub fn indicator_and_step_norms(&self) -> (Vec<f64>, Vec<f64>) {
         let r = self.r;
-        let n = self.order.len();
+        let n = self.d.len();
         let (mut ind, mut step) = (vec![0.0; n], vec![0.0; n]);
         let (mut gm, mut g, mut c) = (vec![0.0; r * r], vec![0.0; r], 0.0);
         let (mut y, mut yw, mut pg) = (vec![0.0; r * r], vec![0.0; r], vec![0.0; r]);
+        let (mut u, mut phi_k, mut phi) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
         for k in (0..n).rev() {
-            let (u, w, d) = (&self.u[k * r..(k + 1) * r], &self.w[k * r..(k + 1) * r], self.d[k]);
+            self.generators(k, &mut u, &mut phi_k);
+            let (w, d) = (&self.w[k * r..(k + 1) * r], self.d[k]);
             // Y = Phi G' Phi and Phi g' of the window after this one (none after the last).
             if k + 1 < n {
-                let phi = &self.phi[(k + 1) * r..(k + 2) * r];
                 for a in 0..r {
                     for b in 0..r {
                         y[a * r + b] = phi[a] * gm[a * r + b] * phi[b];
@@ -328,7 +362,7 @@ impl Semisep {
             }
             let s: f64 = (0..r).map(|a| w[a] * yw[a]).sum();
             let t: f64 = (0..r).map(|a| w[a] * pg[a]).sum();
-            let i = self.order[k];
+            let i = self.windows.order[k];
             ind[i] = 1.0 / d + s;
             c += 1.0 / d + s - 2.0 * t;
             step[i] = c;
@@ -338,6 +372,7 @@ impl Semisep {
                 }
                 g[a] = u[a] / d - (yw[a] - u[a] * s) + pg[a] - u[a] * t;
             }
+            std::mem::swap(&mut phi_k, &mut phi);
         }
         (ind, step)
     }
