@@ -72,7 +72,9 @@ impl Recording {
         let col = |name: &str| head.col(name).expect("required column");
         let mut rows = Vec::new();
         let mut warnings = Vec::new();
-        let mut seen: BTreeMap<u32, (usize, csv::StringRecord)> = BTreeMap::new();
+        // Each index's first line and a hash of its cells (keeping the cells themselves would
+        // take a gigabyte at a million rows).
+        let mut seen: BTreeMap<u32, (usize, u64)> = BTreeMap::new();
         for row in head.rows(text) {
             let (n, cells) = row?;
             let num = |name: &str| number(n, name, &cells[col(name)]);
@@ -87,15 +89,16 @@ impl Recording {
                     format!("index '{}' is not a whole number from 0", &cells[col("index")]),
                 );
             }
+            let hash = cells_hash(&cells);
             match seen.get(&(index as u32)) {
-                Some((first, c)) if c.iter().eq(cells.iter()) => {
+                Some(&(first, h)) if h == hash => {
                     warnings.push(Error {
                         line: n,
                         what: format!("repeats line {first} exactly (index {index}): the copy is dropped"),
                     });
                     continue;
                 }
-                Some((first, _)) => {
+                Some(&(first, _)) => {
                     return err(
                         n,
                         format!(
@@ -104,7 +107,7 @@ impl Recording {
                     );
                 }
                 None => {
-                    seen.insert(index as u32, (n, cells.clone()));
+                    seen.insert(index as u32, (n, hash));
                 }
             }
             let encoder_deg = num("encoder_deg")?;
@@ -173,4 +176,15 @@ impl Recording {
     pub fn has_tilt_xy(&self) -> bool {
         self.has_tilt_x() && self.rows.iter().all(|r| r.tilt_y_deg.is_some())
     }
+}
+
+/// A hash of a row's cells, fixed across runs: equal hashes are taken for an exact repeat
+/// (two different rows collide with probability 2^-64).
+fn cells_hash(cells: &csv::StringRecord) -> u64 {
+    use std::hash::{DefaultHasher, Hash, Hasher};
+    let mut h = DefaultHasher::new();
+    for c in cells {
+        c.hash(&mut h);
+    }
+    h.finish()
 }
