@@ -56,8 +56,63 @@ impl Data {
         ]
     }
 
+    /// Whether `col` wanders as slowly as the bias does, about one cycle over the run or less
+    /// in time (its sign changes at most twice): the harmonic that is the amplitude in a
+    /// sweep, or the second one in opposite pairs. The noise estimate cannot see the noise at
+    /// such a column's pace, as its design holds the column, so its test needs the cautious
+    /// model.
+    pub fn slow_in_time(&self, col: &[f64]) -> bool {
+        let big = col.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let (mut sign, mut changes) = (0.0, 0);
+        // Values near zero do not count, so that rounding does not make a change.
+        for v in col.iter().filter(|v| v.abs() > 0.2 * big) {
+            if sign != 0.0 && v.signum() != sign {
+                changes += 1;
+            }
+            sign = v.signum();
+        }
+        changes <= 2
+    }
+
     /// A column that is 1 at row `i` and 0 elsewhere.
     pub fn indicator(&self, i: usize) -> Vec<f64> {
         (0..self.n()).map(|k| if k == i { 1.0 } else { 0.0 }).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Data of `n` positions visited at `gammas`, 1.35 s apart.
+    fn data(gammas: &[f64]) -> Data {
+        let mut text =
+            String::from("# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n");
+        for (i, g) in gammas.iter().enumerate() {
+            text += &format!("{i},{},{g},1.0\n", 1.35 * i as f64);
+        }
+        Data::new(&Recording::parse(&text).unwrap())
+    }
+
+    #[test]
+    fn the_harmonics_slow_in_time_depend_on_the_order() {
+        let n = 48;
+        let step = 360.0 / n as f64;
+        let sweep: Vec<f64> = (0..n).map(|k| 7.0 + step * k as f64).collect();
+        let pairs: Vec<f64> = (0..n / 2)
+            .flat_map(|k| [7.0 + step * k as f64, 187.0 + step * k as f64])
+            .collect();
+        let slow = |d: &Data, k: u32| d.harmonic(k).iter().map(|c| d.slow_in_time(c)).collect::<Vec<_>>();
+        let (sweep, pairs) = (data(&sweep), data(&pairs));
+        assert_eq!(slow(&sweep, 1), [true, true]);
+        assert_eq!(slow(&sweep, 2), [false, false]);
+        assert_eq!(slow(&pairs, 1), [false, false]);
+        assert_eq!(slow(&pairs, 2), [true, true]);
+        // The bias wander itself; a cycle whose crossing rounding makes flicker in sign.
+        assert!(sweep.slow_in_time(&sweep.tau));
+        let mut cycle = sweep.harmonic(1)[0].clone();
+        let at = cycle.iter().position(|v| v.abs() < 0.1).unwrap();
+        cycle[at..at + 3].copy_from_slice(&[1e-17, -1e-17, 1e-17]);
+        assert!(sweep.slow_in_time(&cycle));
     }
 }

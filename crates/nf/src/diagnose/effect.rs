@@ -80,13 +80,13 @@ impl Frame<'_> {
 }
 
 /// What a test sees: the recording and the model so far, fitted under three noise models.
-/// - `main`, the estimate: local tests (outliers, settling) and the 2 psi harmonic of a
-///   nonlinearity.
-/// - `cautious`, the most coloured model the recording allows: temperature, encoder harmonics
-///   and the amplitude, because in a sweep the low harmonics of the angle are the slow wander
-///   of time.
-/// - `drift`, the estimate made with a drift in the design: drift and jump, because a random
-///   walk wanders at every scale and a drift does not.
+/// - `main`, the estimate: local tests (outliers, settling).
+/// - `cautious`, the most coloured model the recording allows: encoder harmonics, and the
+///   amplitude and the 2 psi harmonic of a nonlinearity where they are slow in time
+///   ([`Data::slow_in_time`]; under `main` elsewhere), because the low harmonics of the angle
+///   can be the slow wander of time.
+/// - `drift`, the estimate made with a drift in the design: drift, jump and temperature,
+///   because a random walk wanders at every scale and a drift does not.
 pub struct State<'a> {
     pub data: &'a Data,
     pub main: &'a Frame<'a>,

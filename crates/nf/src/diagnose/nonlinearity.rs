@@ -23,7 +23,10 @@ impl Effect for Nonlinearity {
             .iter()
             .map(|g| (2.0 * (g + psi)).to_radians().cos())
             .collect();
-        s.main
+        // In a sweep the 2 psi harmonic is two cycles of the run, which the estimate sees
+        // between the harmonics it holds; in opposite pairs it is one, the slowest wander.
+        let frame = if s.data.slow_in_time(&col) { s.cautious } else { s.main };
+        frame
             .nested(
                 Kind::Nonlinearity,
                 vec![col],

@@ -1,7 +1,8 @@
 //! `scale_factor`: the first-harmonic amplitude against the latitude's `WE cos(lat)`. It
 //! changes no residual, so it is judged on the complete model (see the selection). In a
 //! sequential run the first harmonic is also the slowest wander of the bias: the amplitude is
-//! judged under the cautious noise model.
+//! judged under the cautious noise model there, under the estimate where the positions
+//! alternate sides (opposite pairs).
 
 use super::effect::{Change, Effect, Proposal, State, param};
 use super::kind::Kind;
@@ -19,7 +20,12 @@ impl Effect for ScaleFactor {
         if s.is_named(Kind::ScaleFactor) {
             return Vec::new();
         }
-        let f = &s.cautious.fit;
+        let harmonic = s.data.harmonic(1);
+        let f = if harmonic.iter().any(|c| s.data.slow_in_time(c)) {
+            &s.cautious.fit
+        } else {
+            &s.main.fit
+        };
         let (a, b) = (f.coef[1], f.coef[2]);
         let amp = s.amplitude();
         let v = f.s2() * (a * a * f.cov_unit[1][1] + b * b * f.cov_unit[2][2] + 2.0 * a * b * f.cov_unit[1][2])
