@@ -1,0 +1,164 @@
+//! `nf fit` and `nf diagnose` through a real gyro's noise: recordings whose gyro errors are
+//! windows of a static log (the static-log format), scaled, plus the exact Earth rate at a
+//! random latitude and azimuth. No catalogue effect is in them: every effect named is a
+//! false alarm, and the reported sigmas are judged against the true azimuth.
+//!
+//! `cargo run --release --example real_noise_bench -- LOG [RECORDINGS] [STRETCH ...]`
+//! (default 30 recordings per row, stretches 1 3 10 30). A recording has 36, 48 or 72
+//! positions in turn, 1 s dwells 1.35 s apart, in a sweep or in opposite pairs; STRETCH is
+//! how many seconds of the log one second of the recording takes, so that a run sees the
+//! log's slow wander as a longer run would. The noise is scaled so that the log's Allan
+//! deviation at a dwell (of log time) is 0.01 deg/h, the paper's gyro.
+
+use nf::analysis::{Options as FitOptions, analyse};
+use nf::diagnose::{Options, diagnose};
+use nf::recording::Recording;
+use nf::static_log::StaticLog;
+use nf_model::EARTH_RATE_DPH;
+use nf_model::angle::wrap_180;
+use nf_model::rng::Rng;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// The Allan deviation of a dwell mean after scaling, deg/h.
+const TARGET_DPH: f64 = 0.01;
+/// Dwell and spacing of the positions, s of recording time.
+const DWELL_S: f64 = 1.0;
+const SPACING_S: f64 = 1.35;
+
+#[derive(Default)]
+struct Row {
+    fit_z2: f64,
+    final_z2: f64,
+    fit_beyond: u32,
+    final_beyond: u32,
+    alarms: u32,
+    runs: u32,
+    named: BTreeMap<String, u32>,
+}
+
+/// Non-overlapping Allan deviation of `x` at clusters of `m` samples.
+fn allan(x: &[f64], m: usize) -> f64 {
+    let means: Vec<f64> = x.chunks_exact(m).map(|c| c.iter().sum::<f64>() / m as f64).collect();
+    let d2: f64 = means.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum();
+    (0.5 * d2 / (means.len() - 1) as f64).sqrt()
+}
+
+/// Encoder angles of `n` positions from `start` in a sweep, or in opposite pairs.
+fn angles(n: usize, start: f64, pairs: bool) -> Vec<f64> {
+    let step = 360.0 / n as f64;
+    let at = |k: usize| (start + step * k as f64) % 360.0;
+    if pairs {
+        (0..n / 2).flat_map(|k| [at(k), (at(k) + 180.0) % 360.0]).collect()
+    } else {
+        (0..n).map(at).collect()
+    }
+}
+
+/// One recording's text, with its true azimuth.
+fn recording(noise: &[f64], rate_hz: f64, n: usize, pairs: bool, rng: &mut Rng) -> (String, f64) {
+    let lat = rng.uniform(-60.0, 60.0);
+    let psi = rng.uniform(0.0, 360.0);
+    let bias = rng.uniform(-1.0, 1.0);
+    let amplitude = EARTH_RATE_DPH * lat.to_radians().cos();
+    let per_s = noise.len() as f64 / (n as f64 * SPACING_S);
+    let quarter = (DWELL_S * per_s / 4.0) as usize;
+    let mut text = format!(
+        "# format = northfinder-recording/1\n# latitude_deg = {lat}\n# dwell_s = {DWELL_S}\n\
+         # sample_rate_hz = {rate_hz}\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n"
+    );
+    for (i, gamma) in angles(n, rng.uniform(0.0, 360.0), pairs).into_iter().enumerate() {
+        let from = (i as f64 * SPACING_S * per_s) as usize;
+        let signal = amplitude * (gamma + psi).to_radians().cos() + bias;
+        let q: Vec<f64> = (0..4)
+            .map(|k| {
+                let s = &noise[from + k * quarter..from + (k + 1) * quarter];
+                signal + s.iter().sum::<f64>() / quarter as f64
+            })
+            .collect();
+        let mean = q.iter().sum::<f64>() / 4.0;
+        let t = i as f64 * SPACING_S + DWELL_S / 2.0;
+        let _ = writeln!(
+            text,
+            "{i},{t:.4},{gamma:.6},{mean:.9},{:.9},{:.9},{:.9},{:.9}",
+            q[0], q[1], q[2], q[3]
+        );
+    }
+    (text, psi)
+}
+
+fn run_row(log: &StaticLog, rate_hz: f64, stretch: f64, pairs: bool, count: u32) -> Row {
+    let dwell_samples = (DWELL_S * stretch * rate_hz).round() as usize;
+    let scale = TARGET_DPH / allan(&log.rate_dph, dwell_samples);
+    let mut rng = Rng::new(0x5EA1 ^ stretch.to_bits() ^ u64::from(pairs));
+    let mut row = Row::default();
+    for r in 0..count {
+        let n = [36, 48, 72][r as usize % 3];
+        let len = ((n as f64 * SPACING_S + DWELL_S) * stretch * rate_hz) as usize;
+        if len >= log.rate_dph.len() {
+            continue;
+        }
+        let from = (rng.unit() * (log.rate_dph.len() - len) as f64) as usize;
+        let window = &log.rate_dph[from..from + len];
+        let mean = window.iter().sum::<f64>() / len as f64;
+        let noise: Vec<f64> = window.iter().map(|v| (v - mean) * scale).collect();
+        let (text, psi) = recording(&noise, rate_hz, n, pairs, &mut rng);
+        let rec = Recording::parse(&text).expect("the bench writes valid recordings");
+        let err = |a: f64| wrap_180(a - psi) * 3600.0;
+        let (Ok(fit), Ok(d)) = (
+            analyse(&rec, &FitOptions::default()),
+            diagnose(&rec, &Options::default()),
+        ) else {
+            continue;
+        };
+        let zf = err(fit.gls.psi_deg) / (fit.gls.sigma_psi_deg * 3600.0);
+        let zd = err(d.final_.azimuth_deg) / d.final_.sigma_arcsec;
+        row.fit_z2 += zf * zf;
+        row.final_z2 += zd * zd;
+        row.fit_beyond += u32::from(zf.abs() > 3.0);
+        row.final_beyond += u32::from(zd.abs() > 3.0);
+        let effects: Vec<_> = d.findings.iter().filter(|f| !f.effect.is_noise()).collect();
+        row.alarms += u32::from(!effects.is_empty());
+        for f in &d.findings {
+            *row.named.entry(f.effect.name().to_string()).or_default() += 1;
+        }
+        row.runs += 1;
+    }
+    row
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(path) = args.first() else {
+        eprintln!("usage: real_noise_bench LOG [RECORDINGS] [STRETCH ...]");
+        std::process::exit(2);
+    };
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let log = StaticLog::parse(&text).unwrap_or_else(|e| panic!("{}", e.at(path)));
+    let rate_hz = 1.0 / log.spacing.step_s;
+    let count: u32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(30);
+    let stretches: Vec<f64> = match args.get(2..) {
+        Some(s) if !s.is_empty() => s.iter().filter_map(|v| v.parse().ok()).collect(),
+        _ => vec![1.0, 3.0, 10.0, 30.0],
+    };
+    println!("{path}: {} samples at {rate_hz:.3} Hz", log.rate_dph.len());
+    println!("order    stretch  runs  RMS z fit  RMS z final  >3 sd fit  >3 sd final  false alarms  named");
+    for pairs in [false, true] {
+        for &stretch in &stretches {
+            let r = run_row(&log, rate_hz, stretch, pairs, count);
+            let k = f64::from(r.runs.max(1));
+            let named: Vec<String> = r.named.iter().map(|(k, v)| format!("{k} x{v}")).collect();
+            println!(
+                "{:<8} {stretch:>7} {:>5} {:>10.2} {:>12.2} {:>10} {:>12} {:>13} {}",
+                if pairs { "pairs" } else { "sweep" },
+                r.runs,
+                (r.fit_z2 / k).sqrt(),
+                (r.final_z2 / k).sqrt(),
+                r.fit_beyond,
+                r.final_beyond,
+                r.alarms,
+                named.join(", ")
+            );
+        }
+    }
+}
