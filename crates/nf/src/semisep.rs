@@ -279,18 +279,28 @@ impl Semisep {
     /// The recursion of `L`, forwards in time: `step(k, i, u_k . f_k)` for window `k` (the
     /// caller's `i`) returns the window's innovation, which the carried vector `f` takes on.
     fn forward(&self, mut step: impl FnMut(usize, usize, f64) -> f64) {
-        let r = self.r;
-        let (mut f, mut u, mut phi) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
+        // The hot loop of every whitening: the rungs are read in place, not copied.
+        let (r, m) = (self.r, self.rungs);
+        let (all, e) = (self.windows.rungs.len(), r - m);
+        let mut f = vec![0.0; r];
         let mut prev = 0.0;
         for (k, &i) in self.windows.order.iter().enumerate() {
-            self.generators(k, &mut u, &mut phi);
+            let (gain, decay) = (&self.windows.gain[k * all..], &self.windows.decay[k * all..]);
+            let (xu, xphi) = (&self.extra_u[k * e..(k + 1) * e], &self.extra_phi[k * e..(k + 1) * e]);
             if k > 0 {
                 let w = &self.w[(k - 1) * r..k * r];
-                for a in 0..r {
-                    f[a] = phi[a] * (f[a] + w[a] * prev);
+                for a in 0..m {
+                    f[a] = decay[a] * (f[a] + w[a] * prev);
+                }
+                for a in 0..e {
+                    f[m + a] = xphi[a] * (f[m + a] + w[m + a] * prev);
                 }
             }
-            prev = step(k, i, (0..r).map(|a| u[a] * f[a]).sum());
+            let carried = (0..m)
+                .map(|a| self.rung_sd * gain[a] * f[a])
+                .chain((0..e).map(|a| xu[a] * f[m + a]))
+                .sum();
+            prev = step(k, i, carried);
         }
     }
 
