@@ -210,3 +210,45 @@ fn a_temperature_cycle_is_named_as_a_thermal_drift_rather_than_a_drift() {
     }
     assert!(first >= 10, "thermal drift named first in {first} of {runs}");
 }
+
+/// 48 dwells of 1 s at 24 angles, each angle dwelt at twice running (no move between), white
+/// noise of 0.01 deg/h per quarter; the first quarter of the dwells `excess` picks is 0.03
+/// deg/h high.
+fn dwelt_twice(excess: impl Fn(usize) -> bool) -> Recording {
+    let mut rng = nf_twin::Rng::new(5);
+    let (lat, psi) = (40.0f64, 30.0f64);
+    let amplitude = nf_model::EARTH_RATE_DPH * lat.to_radians().cos();
+    let mut text = format!(
+        "# format = northfinder-recording/1\n# latitude_deg = {lat}\n# dwell_s = 1\n\
+         index,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n"
+    );
+    for i in 0..48 {
+        let gamma = 15.0 * (i / 2) as f64;
+        let signal = amplitude * (gamma + psi).to_radians().cos() + 0.5;
+        let mut q: Vec<f64> = (0..4).map(|_| signal + 0.01 * rng.gauss()).collect();
+        if excess(i) {
+            q[0] += 0.03;
+        }
+        let mean = q.iter().sum::<f64>() / 4.0;
+        text += &format!(
+            "{i},{},{gamma},{mean},{},{},{},{}\n",
+            1.35 * i as f64,
+            q[0],
+            q[1],
+            q[2],
+            q[3]
+        );
+    }
+    Recording::parse(&text).unwrap()
+}
+
+#[test]
+fn a_settling_transient_follows_a_move_only() {
+    let named = |rec: &Recording| {
+        let d = diagnose(rec, &Options::default()).unwrap();
+        d.findings.iter().any(|f| f.effect == Kind::SettlingTransient)
+    };
+    // The same first-quarter excess, after each move or on each dwell after none.
+    assert!(named(&dwelt_twice(|i| i % 2 == 0)));
+    assert!(!named(&dwelt_twice(|i| i % 2 == 1)));
+}

@@ -2,6 +2,10 @@
 
 use crate::recording::Recording;
 
+/// The smallest change of the encoder angle between dwells that is a move, deg: well above an
+/// encoder's noise, well below any step of a run.
+const MOVE_DEG: f64 = 0.01;
+
 pub struct Data {
     /// The recording with its rows sorted by time.
     pub rec: Recording,
@@ -72,6 +76,14 @@ impl Data {
             sign = v.signum();
         }
         changes <= 2
+    }
+
+    /// Whether the shaft moved before each dwell: its angle differs from the dwell before's
+    /// (the first dwell follows the move to the start).
+    pub fn moved(&self) -> Vec<bool> {
+        (0..self.n())
+            .map(|i| i == 0 || nf_model::angle::wrap_180(self.gamma[i] - self.gamma[i - 1]).abs() > MOVE_DEG)
+            .collect()
     }
 
     /// A column that is 1 at row `i` and 0 elsewhere.

@@ -1,8 +1,9 @@
-//! `settling_transient`: the first quarter of each dwell departs from the rest. Tested by
-//! contrasts within each dwell, so the noise's slow part cancels: the first quarter's offset
-//! from the other three (t test on its own scatter) and whether it scatters more than the
-//! last quarter does from its three (a sign test: exact for any stationary noise, whose
-//! time reversal swaps the two).
+//! `settling_transient`: the first quarter of each dwell after a move departs from the rest.
+//! Tested by contrasts within each dwell, so the noise's slow part cancels: the first
+//! quarter's offset from the other three (t test on its own scatter) and whether it scatters
+//! more than the last quarter does from its three (a sign test: exact for any stationary
+//! noise, whose time reversal swaps the two). A dwell at the angle of the one before had no
+//! move to settle from: it is left out of the test and of the correction.
 
 use super::effect::{Change, Effect, Proposal, State, param};
 use super::kind::Kind;
@@ -16,7 +17,9 @@ impl Effect for SettlingTransient {
     }
 
     fn test(&self, s: &State) -> Vec<Proposal> {
-        let Some(q) = &s.data.quarters else { return Vec::new() };
+        let Some(all) = &s.data.quarters else { return Vec::new() };
+        let moved = s.data.moved();
+        let q: Vec<[f64; 4]> = all.iter().zip(&moved).filter(|m| *m.1).map(|m| *m.0).collect();
         let n = q.len();
         if s.is_named(Kind::SettlingTransient) || n < 4 {
             return Vec::new();
@@ -33,16 +36,18 @@ impl Effect for SettlingTransient {
         };
         let wider = first.iter().zip(&last).filter(|(f, l)| f.abs() > l.abs()).count();
         let p_scatter = sign_test(wider, n);
-        let rest: Vec<f64> = q.iter().map(|q| (q[1] + q[2] + q[3]) / 3.0).collect();
-        // The dwell means without the first quarter, with the model's corrections kept.
-        let y: Vec<f64> = s
-            .main
-            .model
-            .y
-            .iter()
-            .zip(&s.data.rate)
-            .zip(&rest)
-            .map(|((y, r), rest)| y - r + rest)
+        // The dwell means after a move without their first quarter, with the model's
+        // corrections kept.
+        let y: Vec<f64> = (0..all.len())
+            .map(|i| {
+                let q = &all[i];
+                let rest = if moved[i] {
+                    (q[1] + q[2] + q[3]) / 3.0
+                } else {
+                    s.data.rate[i]
+                };
+                s.main.model.y[i] - s.data.rate[i] + rest
+            })
             .collect();
         let rms = (first.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
         vec![Proposal {
