@@ -8,8 +8,10 @@
 //! positions in turn, 1 s dwells 1.35 s apart, in a sweep or in opposite pairs; STRETCH is
 //! how many seconds of the log one second of the recording takes, so that a run sees the
 //! log's slow wander as a longer run would. The noise is scaled so that the log's Allan
-//! deviation at a dwell (of log time) is 0.01 deg/h, the paper's gyro.
+//! deviation at a dwell (of log time, overlapping, as `nf allan` computes it) is 0.01 deg/h,
+//! the paper's gyro.
 
+use nf::allan::oavar;
 use nf::analysis::{Options as FitOptions, analyse};
 use nf::diagnose::{Options, diagnose};
 use nf::recording::Recording;
@@ -35,13 +37,6 @@ struct Row {
     alarms: u32,
     runs: u32,
     named: BTreeMap<String, u32>,
-}
-
-/// Non-overlapping Allan deviation of `x` at clusters of `m` samples.
-fn allan(x: &[f64], m: usize) -> f64 {
-    let means: Vec<f64> = x.chunks_exact(m).map(|c| c.iter().sum::<f64>() / m as f64).collect();
-    let d2: f64 = means.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum();
-    (0.5 * d2 / (means.len() - 1) as f64).sqrt()
 }
 
 /// Encoder angles of `n` positions from `start` in a sweep, or in opposite pairs.
@@ -89,7 +84,8 @@ fn recording(noise: &[f64], rate_hz: f64, n: usize, pairs: bool, rng: &mut Rng) 
 
 fn run_row(log: &StaticLog, rate_hz: f64, stretch: f64, pairs: bool, count: u32) -> Row {
     let dwell_samples = (DWELL_S * stretch * rate_hz).round() as usize;
-    let scale = TARGET_DPH / allan(&log.rate_dph, dwell_samples);
+    let avar = oavar(&log.segments(), log.spacing.step_s, &[dwell_samples])[0].avar;
+    let scale = TARGET_DPH / avar.sqrt();
     let mut rng = Rng::new(0x5EA1 ^ stretch.to_bits() ^ u64::from(pairs));
     let mut row = Row::default();
     for r in 0..count {
