@@ -15,8 +15,8 @@
 use nf::diagnose::{Options, diagnose};
 use nf::recording::Recording;
 use nf_model::rng::Rng;
+use nf_twin::QuarteredRecording;
 use std::collections::BTreeMap;
-use std::fmt::Write;
 use std::time::Instant;
 
 const LATITUDE_DEG: f64 = 43.8;
@@ -33,10 +33,7 @@ enum Wander {
 fn recording(n: usize, seed: u64, wander: Wander) -> String {
     let mut rng = Rng::new(seed);
     let amplitude = 15.041_067 * LATITUDE_DEG.to_radians().cos();
-    let mut text = format!(
-        "# format = northfinder-recording/1\n# latitude_deg = {LATITUDE_DEG}\n# dwell_s = 1.000\n\
-         # sample_rate_hz = 1000\n# positions = {n}\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n"
-    );
+    let mut rec = QuarteredRecording::new(LATITUDE_DEG, 1.0, 1000.0);
     let mut bias = 3.0;
     let mut terms = [0.0f64; 5];
     for i in 0..n {
@@ -54,18 +51,9 @@ fn recording(n: usize, seed: u64, wander: Wander) -> String {
         }
         let rate = amplitude * (gamma + PSI_DEG).to_radians().cos() + bias;
         let q: [f64; 4] = core::array::from_fn(|_| rate + 0.02 * rng.gauss());
-        let mean = q.iter().sum::<f64>() / 4.0;
-        let _ = writeln!(
-            text,
-            "{i},{:.3},{gamma:.7},{mean:.6},{:.6},{:.6},{:.6},{:.6}",
-            5.0 + 1.2 * i as f64,
-            q[0],
-            q[1],
-            q[2],
-            q[3]
-        );
+        rec.position(5.0 + 1.2 * i as f64, gamma, q);
     }
-    text
+    rec.text().to_string()
 }
 
 /// Final azimuth error against the truth, arcsec.

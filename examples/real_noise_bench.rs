@@ -19,8 +19,8 @@ use nf::static_log::StaticLog;
 use nf_model::EARTH_RATE_DPH;
 use nf_model::angle::wrap_180;
 use nf_model::rng::Rng;
+use nf_twin::QuarteredRecording;
 use std::collections::BTreeMap;
-use std::fmt::Write;
 
 /// The Allan deviation of a dwell mean after scaling, deg/h.
 const TARGET_DPH: f64 = 0.01;
@@ -58,28 +58,17 @@ fn recording(noise: &[f64], rate_hz: f64, n: usize, pairs: bool, rng: &mut Rng) 
     let amplitude = EARTH_RATE_DPH * lat.to_radians().cos();
     let per_s = noise.len() as f64 / (n as f64 * SPACING_S);
     let quarter = (DWELL_S * per_s / 4.0) as usize;
-    let mut text = format!(
-        "# format = northfinder-recording/1\n# latitude_deg = {lat}\n# dwell_s = {DWELL_S}\n\
-         # sample_rate_hz = {rate_hz}\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n"
-    );
+    let mut rec = QuarteredRecording::new(lat, DWELL_S, rate_hz);
     for (i, gamma) in angles(n, rng.uniform(0.0, 360.0), pairs).into_iter().enumerate() {
         let from = (i as f64 * SPACING_S * per_s) as usize;
         let signal = amplitude * (gamma + psi).to_radians().cos() + bias;
-        let q: Vec<f64> = (0..4)
-            .map(|k| {
-                let s = &noise[from + k * quarter..from + (k + 1) * quarter];
-                signal + s.iter().sum::<f64>() / quarter as f64
-            })
-            .collect();
-        let mean = q.iter().sum::<f64>() / 4.0;
-        let t = i as f64 * SPACING_S + DWELL_S / 2.0;
-        let _ = writeln!(
-            text,
-            "{i},{t:.4},{gamma:.6},{mean:.9},{:.9},{:.9},{:.9},{:.9}",
-            q[0], q[1], q[2], q[3]
-        );
+        let q: [f64; 4] = core::array::from_fn(|k| {
+            let s = &noise[from + k * quarter..from + (k + 1) * quarter];
+            signal + s.iter().sum::<f64>() / quarter as f64
+        });
+        rec.position(i as f64 * SPACING_S + DWELL_S / 2.0, gamma, q);
     }
-    (text, psi)
+    (rec.text().to_string(), psi)
 }
 
 fn run_row(log: &StaticLog, rate_hz: f64, stretch: f64, pairs: bool, count: u32) -> Row {

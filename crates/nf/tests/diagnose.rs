@@ -218,28 +218,17 @@ fn dwelt_twice(excess: impl Fn(usize) -> bool) -> Recording {
     let mut rng = nf_twin::Rng::new(5);
     let (lat, psi) = (40.0f64, 30.0f64);
     let amplitude = nf_model::EARTH_RATE_DPH * lat.to_radians().cos();
-    let mut text = format!(
-        "# format = northfinder-recording/1\n# latitude_deg = {lat}\n# dwell_s = 1\n\
-         index,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n"
-    );
+    let mut rec = nf_twin::QuarteredRecording::new(lat, 1.0, 1000.0);
     for i in 0..48 {
         let gamma = 15.0 * (i / 2) as f64;
         let signal = amplitude * (gamma + psi).to_radians().cos() + 0.5;
-        let mut q: Vec<f64> = (0..4).map(|_| signal + 0.01 * rng.gauss()).collect();
+        let mut q: [f64; 4] = core::array::from_fn(|_| signal + 0.01 * rng.gauss());
         if excess(i) {
             q[0] += 0.03;
         }
-        let mean = q.iter().sum::<f64>() / 4.0;
-        text += &format!(
-            "{i},{},{gamma},{mean},{},{},{},{}\n",
-            1.35 * i as f64,
-            q[0],
-            q[1],
-            q[2],
-            q[3]
-        );
+        rec.position(1.35 * i as f64, gamma, q);
     }
-    Recording::parse(&text).unwrap()
+    Recording::parse(rec.text()).unwrap()
 }
 
 #[test]

@@ -6,7 +6,7 @@ use nf::analysis::{self, analyse};
 use nf::diagnose::{Options, diagnose};
 use nf::recording::Recording;
 use nf_model::rng::Rng;
-use std::fmt::Write;
+use nf_twin::QuarteredRecording;
 
 const LATITUDE_DEG: f64 = 43.8;
 const PSI_DEG: f64 = 65.5;
@@ -19,28 +19,16 @@ const WALK_STEP: f64 = 0.0005;
 fn walk_run(n: usize, seed: u64) -> Recording {
     let mut rng = Rng::new(seed);
     let amplitude = 15.041_067 * LATITUDE_DEG.to_radians().cos();
-    let mut text = format!(
-        "# format = northfinder-recording/1\n# latitude_deg = {LATITUDE_DEG}\n# dwell_s = 1.000\n\
-         # sample_rate_hz = 1000\n# positions = {n}\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n"
-    );
+    let mut rec = QuarteredRecording::new(LATITUDE_DEG, 1.0, 1000.0);
     let mut bias = 0.7;
     for i in 0..n {
         let gamma = (i as f64 * 0.5) % 360.0;
         bias += WALK_STEP * rng.gauss();
         let rate = amplitude * (gamma + PSI_DEG).to_radians().cos() + bias;
         let q: [f64; 4] = core::array::from_fn(|_| rate + QUARTER_SD * rng.gauss());
-        let mean = q.iter().sum::<f64>() / 4.0;
-        let _ = writeln!(
-            text,
-            "{i},{:.3},{gamma:.7},{mean:.7},{:.7},{:.7},{:.7},{:.7}",
-            5.0 + 1.2 * i as f64,
-            q[0],
-            q[1],
-            q[2],
-            q[3]
-        );
+        rec.position(5.0 + 1.2 * i as f64, gamma, q);
     }
-    Recording::parse(&text).unwrap()
+    Recording::parse(rec.text()).unwrap()
 }
 
 #[test]

@@ -7,12 +7,14 @@
 pub mod biss;
 mod devices;
 pub mod noise;
+mod quartered;
 mod static_log;
 mod step_timer;
 mod world;
 
 pub use devices::{TwinInstrument, instrument};
 pub use nf_model::rng::Rng;
+pub use quartered::QuarteredRecording;
 pub use static_log::StaticLog;
 pub use world::{Faults, InclinometerFault, TwinConfig, World, virtual_now_us};
 
