@@ -102,13 +102,20 @@ fn main() {
     } else {
         sizes
     };
-    println!("positions   seconds   final psi error   final sigma");
+    println!("positions   seconds   noise estimate   selection (steps)   final psi error   final sigma");
     for n in sizes {
         let rec = Recording::parse(&recording(n, n as u64, Wander::Walk)).expect("the bench writes the format");
         let start = Instant::now();
         let d = diagnose(&rec, &Options::default()).expect("a long sequential run diagnoses");
         let secs = start.elapsed().as_secs_f64();
         let err = error_arcsec(d.final_.azimuth_deg);
-        println!("{n:>9} {secs:>9.2} {err:>16.1}\" {:>12.1}\"", d.final_.sigma_arcsec);
+        let t = d.timing;
+        println!(
+            "{n:>9} {secs:>9.2} {:>14.1}ms {:>13.1}ms ({}) {err:>16.1}\" {:>12.1}\"",
+            t.noise_s * 1e3,
+            t.selection_s * 1e3,
+            t.selection_steps,
+            d.final_.sigma_arcsec
+        );
     }
 }

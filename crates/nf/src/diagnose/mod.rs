@@ -101,6 +101,18 @@ pub struct Diagnosis {
     /// What cannot be told apart, and other cautions.
     pub notes: Vec<String>,
     pub points: Vec<Point>,
+    /// Where the time went.
+    pub timing: Timing,
+}
+
+/// Wall time of a diagnosis's parts, s: the noise estimate, the selection (every step), and
+/// the whole.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Timing {
+    pub noise_s: f64,
+    pub selection_s: f64,
+    pub selection_steps: usize,
+    pub total_s: f64,
 }
 
 /// Diagnoses a recording.
@@ -109,6 +121,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     if n < 8 {
         return Err(format!("{n} positions: diagnosing needs at least 8"));
     }
+    let started = std::time::Instant::now();
     let d = Data::new(rec);
     let white = Whitener::identity();
     let fit_of = |y: &[f64], w: &Whitener| Model::new(d.base_cols(), y.to_vec(), w).fit();
@@ -121,7 +134,9 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         Some(t) => d.rate.iter().zip(&t.corrections).map(|(r, c)| r - c).collect(),
         None => d.rate.clone(),
     };
+    let noise_started = std::time::Instant::now();
     let noise = noise::analyse(&d, &y, &opt.noise, opt.alpha)?;
+    let noise_s = noise_started.elapsed().as_secs_f64();
     let w = &noise.whitener;
     let base = fit_of(&d.rate, w).ok_or("the positions do not determine A cos + B sin + C")?;
     let start = Model::new(d.base_cols(), y, w);
@@ -144,6 +159,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     if let Some(t) = tilt {
         effects.push(Box::new(t));
     }
+    let selection_started = std::time::Instant::now();
     let sel = Selector {
         data: &d,
         whitener: w,
@@ -154,6 +170,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         alpha: opt.alpha * (1.0 - UNEXPLAINED_SHARE),
     }
     .run(start)?;
+    let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
     let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
     let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
@@ -197,6 +214,12 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         findings,
         selected: summary(&sel.fit),
         final_,
+        timing: Timing {
+            noise_s,
+            selection_s,
+            selection_steps: sel.steps,
+            total_s: started.elapsed().as_secs_f64(),
+        },
         models,
         points,
     })

@@ -34,6 +34,8 @@ pub struct Selection {
     pub variants: Vec<Variant>,
     /// Competing significant explanations at a step.
     pub rivals: Vec<(Kind, Kind)>,
+    /// Steps taken: each tests every effect against the model so far.
+    pub steps: usize,
 }
 
 pub struct Selector<'a> {
@@ -57,7 +59,9 @@ impl<'a> Selector<'a> {
         let mut variants = vec![variant("Eq. 7", &model, 0)];
         let mut rivals = Vec::new();
         let mut scanned = 0;
+        let mut steps = 0;
         for _ in 0..MAX_STEPS {
+            steps += 1;
             let named: Vec<Kind> = findings.iter().map(|f| f.effect).collect();
             let mut cands = self.step(&model, &fit, &named);
             let Some(chosen) = cands.first().cloned() else { break };
@@ -98,6 +102,7 @@ impl<'a> Selector<'a> {
             findings,
             variants,
             rivals,
+            steps,
         })
     }
 
