@@ -241,3 +241,25 @@ fn a_settling_transient_follows_a_move_only() {
     assert!(named(&dwelt_twice(|i| i % 2 == 0)));
     assert!(!named(&dwelt_twice(|i| i % 2 == 1)));
 }
+
+#[test]
+fn a_wild_dwell_mean_is_an_outlier_and_moves_neither_the_tilt_nor_the_azimuth() {
+    // A logger's fill value or a glitch of 10^6 deg/h on one dwell, with both tilt columns:
+    // the exact tilt correction scales with the fitted amplitude, which the glitch must not
+    // set (it did: 70.2 deg for 65.5).
+    let mut twin = quiet_twin(21);
+    twin.instrument.tilt_deg = 0.02;
+    let (clean, wild) = {
+        let r = recording(&twin);
+        let mut w = r.clone();
+        w.rows[5].rate_dph = 1e6;
+        (r, w)
+    };
+    assert!(clean.has_tilt_xy());
+    let base = diagnose(&clean, &Options::default()).unwrap();
+    let d = diagnose(&wild, &Options::default()).unwrap();
+    let out = d.findings.iter().find(|f| f.effect == Kind::Outliers).expect("the outlier is named");
+    assert!(out.location.contains("position 5"), "{}", out.location);
+    let off = nf_model::angle::wrap_180(d.final_.azimuth_deg - base.final_.azimuth_deg) * 3600.0;
+    assert!(off.abs() < base.final_.sigma_arcsec, "{off}\" against {}\"", base.final_.sigma_arcsec);
+}

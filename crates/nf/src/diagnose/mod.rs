@@ -127,7 +127,12 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let fit_of = |y: &[f64], w: &Whitener| Model::new(d.base_cols(), y.to_vec(), w).fit();
     let tilt = ShaftTilt::measure(&d.rec, |corr| {
         let y: Vec<f64> = d.rate.iter().zip(corr).map(|(r, c)| r - c).collect();
-        let f = fit_of(&y, &white).ok_or("the positions do not determine A cos + B sin + C")?;
+        // The exact correction scales with the fitted amplitude: a wild dwell mean must not
+        // set it, so the bursts get columns of their own here as in the noise estimate.
+        let cols = noise::with_bursts_held_out(&d, &d.base_cols(), &y);
+        let f = Model::new(cols, y, &white)
+            .fit()
+            .ok_or("the positions do not determine A cos + B sin + C")?;
         Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
     })?;
     let y: Vec<f64> = match &tilt {

@@ -219,7 +219,7 @@ fn most_coloured(d: &Data, e: &noise_est::Estimate, fallback: NoiseModel) -> Noi
 /// Dwell means far outside the rest (five robust sigmas of the residuals) get a
 /// column of their own, so that a burst is not taken for flicker: one spike raises the scatter
 /// of the dwell means above what the quarters show, which is what flicker does.
-fn with_bursts_held_out(d: &Data, cols: &[Vec<f64>], y: &[f64]) -> Vec<Vec<f64>> {
+pub(super) fn with_bursts_held_out(d: &Data, cols: &[Vec<f64>], y: &[f64]) -> Vec<Vec<f64>> {
     let mut out = cols.to_vec();
     // Against a smooth curve in time: a drift is not a string of bursts.
     let mut smooth = cols.to_vec();
