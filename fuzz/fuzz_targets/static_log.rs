@@ -1,10 +1,11 @@
 //! The static-log reader on any text: no panic; times strictly increase; the segments cover
-//! the samples in order, split exactly where a step exceeds `GAP_FACTOR` times the median
-//! step; and printing the log back in the format and reading it again gives the same log.
+//! the samples in order, split exactly where a step exceeds the median step by `GAP_FACTOR`
+//! times it and by `JITTER_SIGMAS` robust sigmas of the steps; the step is the mean within the
+//! segments; and printing the log back in the format and reading it again gives the same log.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use nf::static_log::{GAP_FACTOR, StaticLog};
+use nf::static_log::{GAP_FACTOR, JITTER_SIGMAS, StaticLog};
 use std::fmt::Write;
 
 fn print(log: &StaticLog) -> String {
@@ -31,13 +32,26 @@ fuzz_target!(|data: &[u8]| {
     if let Some((lo, hi)) = log.temp_span_c {
         assert!(lo <= hi && lo.is_finite() && hi.is_finite());
     }
-    // The median step, by counting: at least half the steps are at most it, and at least
-    // half at least it.
+    // The gap threshold from the median step and the steps' median distance from it.
     let sp = &log.spacing;
     let steps: Vec<f64> = log.t_s.windows(2).map(|w| w[1] - w[0]).collect();
-    assert!(sp.step_s > 0.0);
-    assert!(2 * steps.iter().filter(|&&s| s <= sp.step_s).count() >= steps.len());
-    assert!(2 * steps.iter().filter(|&&s| s >= sp.step_s).count() >= steps.len());
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let m = median(steps.clone());
+    let jitter = 1.4826 * median(steps.iter().map(|s| (s - m).abs()).collect());
+    let threshold = m + ((GAP_FACTOR - 1.0) * m).max(JITTER_SIGMAS * jitter);
+    // The step: the mean step within the segments of two samples or more.
+    let (span, count) = sp.segments.iter().filter(|r| r.len() > 1).fold((0.0, 0), |(s, c), r| {
+        (s + log.t_s[r.end - 1] - log.t_s[r.start], c + r.len() - 1)
+    });
+    let mean = if count > 0 { span / count as f64 } else { m };
+    assert!(
+        sp.step_s > 0.0 && (sp.step_s - mean).abs() <= 1e-9 * mean,
+        "{} vs {mean}",
+        sp.step_s
+    );
     // Segments: contiguous, covering, split at the gaps only.
     assert_eq!(sp.segments.first().map(|r| r.start), Some(0));
     assert_eq!(sp.segments.last().map(|r| r.end), Some(n));
@@ -45,14 +59,14 @@ fuzz_target!(|data: &[u8]| {
     for (w, gap) in sp.segments.windows(2).zip(&sp.gaps) {
         let i = w[0].end;
         assert_eq!(w[1].start, i);
-        assert!(log.t_s[i] - log.t_s[i - 1] > GAP_FACTOR * sp.step_s);
+        assert!(log.t_s[i] - log.t_s[i - 1] > threshold);
         assert_eq!((gap.from_s, gap.to_s), (log.t_s[i - 1], log.t_s[i]));
         assert!(gap.line > 0);
     }
     for seg in &sp.segments {
         assert!(!seg.is_empty());
         for i in seg.start + 1..seg.end {
-            assert!(log.t_s[i] - log.t_s[i - 1] <= GAP_FACTOR * sp.step_s);
+            assert!(log.t_s[i] - log.t_s[i - 1] <= threshold);
         }
     }
     assert_eq!(log.segments().iter().map(|s| s.len()).sum::<usize>(), n);

@@ -8,7 +8,7 @@ use crate::allan_model::Sampling;
 use crate::linfit;
 use crate::noise_fit::dwell_of;
 use crate::recording::{self, Recording};
-use crate::static_log::{self, Spacing, StaticLog};
+use crate::static_log::{self, GAP_FACTOR, Spacing, StaticLog};
 use crate::textfile::{Error, Head, err};
 
 /// A number for a note: six decimals at most, no trailing zeros.
@@ -108,13 +108,22 @@ fn step_of(spacing: &Spacing, meta_rate: Option<f64>, override_hz: Option<f64>, 
     spacing.step_s
 }
 
+/// Gaps listed one by one up to this many; a log with more (jittered times) gets a count.
+const GAPS_LISTED: usize = 10;
+
 fn gap_notes(spacing: &Spacing, notes: &mut Vec<String>) {
-    for g in &spacing.gaps {
+    for g in spacing.gaps.iter().take(GAPS_LISTED) {
         notes.push(format!(
             "gap at line {}: time jumps from {} s to {} s",
             g.line,
             short(g.from_s),
             short(g.to_s)
+        ));
+    }
+    if spacing.gaps.len() > GAPS_LISTED {
+        notes.push(format!(
+            "and {} more gaps (steps over {GAP_FACTOR} times the median step and beyond the times' jitter)",
+            spacing.gaps.len() - GAPS_LISTED
         ));
     }
     if !spacing.gaps.is_empty() {

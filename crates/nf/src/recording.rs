@@ -7,7 +7,7 @@
 //! angle on two rows is fine: a run may visit a position twice (`order = forward-back`).
 
 pub use crate::textfile::Error;
-use crate::textfile::{Head, err, number, optional as optional_cell};
+use crate::textfile::{Head, err, number, optional as optional_cell, read_text};
 use std::collections::BTreeMap;
 
 pub const FORMAT: &str = "northfinder-recording/1";
@@ -41,11 +41,29 @@ pub struct Recording {
 }
 
 const REQUIRED: [&str; 4] = ["index", "t_s", "encoder_deg", "rate_dph"];
+/// Every column the reader uses, and the metadata it reads.
+const COLUMNS: [&str; 13] = [
+    "index",
+    "t_s",
+    "encoder_deg",
+    "rate_dph",
+    "rate_sd_dph",
+    "samples",
+    "temp_c",
+    "tilt_x_deg",
+    "tilt_y_deg",
+    "q1_dph",
+    "q2_dph",
+    "q3_dph",
+    "q4_dph",
+];
+const KEYS: [&str; 4] = ["format", "latitude_deg", "dwell_s", "sample_rate_hz"];
 
 impl Recording {
     pub fn parse(text: &str) -> Result<Recording, Error> {
         let head = Head::parse(text)?;
         head.require_format(FORMAT)?;
+        head.known(&KEYS, &COLUMNS)?;
         let meta = head.meta.clone();
         let at = head.meta_line("latitude_deg");
         let latitude_deg: f64 = match meta.get("latitude_deg") {
@@ -141,14 +159,15 @@ impl Recording {
                 rate_sd_dph,
                 samples,
                 temp_c: optional("temp_c")?,
-                tilt_x_deg: optional("tilt_x_deg")?,
-                tilt_y_deg: optional("tilt_y_deg")?,
+                tilt_x_deg: elevation(n, "tilt_x_deg", optional("tilt_x_deg")?, &mut warnings),
+                tilt_y_deg: elevation(n, "tilt_y_deg", optional("tilt_y_deg")?, &mut warnings),
                 quarters_dph: quarters,
             });
         }
         if rows.is_empty() {
             return err(0, "the recording has no positions");
         }
+        in_visiting_order(&mut rows, &mut warnings)?;
         Ok(Recording {
             latitude_deg,
             meta,
@@ -158,10 +177,7 @@ impl Recording {
     }
 
     pub fn read(path: &str) -> Result<Recording, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error {
-            line: 0,
-            what: format!("cannot read {path}: {e}"),
-        })?;
+        let text = read_text(path)?;
         Recording::parse(&text).map_err(|e| Error {
             line: e.line,
             what: format!("{path}: {}", e.what),
@@ -175,6 +191,45 @@ impl Recording {
 
     pub fn has_tilt_xy(&self) -> bool {
         self.has_tilt_x() && self.rows.iter().all(|r| r.tilt_y_deg.is_some())
+    }
+}
+
+/// An inclinometer reading is an elevation: beyond 90 deg it is a fill value or a fault, and
+/// is read as no reading (the tilt path bridges those), with a warning naming the line.
+fn elevation(line: usize, name: &str, v: Option<f64>, warnings: &mut Vec<Error>) -> Option<f64> {
+    match v {
+        Some(e) if e.abs() >= 90.0 => {
+            warnings.push(Error {
+                line,
+                what: format!("{name} {e} is not an elevation in degrees (-90 to 90): read as no reading"),
+            });
+            None
+        }
+        v => v,
+    }
+}
+
+/// The rows in visiting order: by `index`, the visit number, when the file has them in
+/// another order (with a warning), and `t_s` must then increase, since a later visit cannot
+/// be earlier.
+fn in_visiting_order(rows: &mut [Row], warnings: &mut Vec<Error>) -> Result<(), Error> {
+    if rows.windows(2).any(|w| w[1].index < w[0].index) {
+        rows.sort_by_key(|r| r.index);
+        warnings.push(Error {
+            line: 0,
+            what: "the lines are not in the order of their index: they are taken in index order, the visiting order"
+                .into(),
+        });
+    }
+    match rows.windows(2).find(|w| w[1].t_s <= w[0].t_s) {
+        Some([a, b]) => err(
+            b.line,
+            format!(
+                "t_s {} of index {} is not after t_s {} of index {} (line {}): the visits are in time order",
+                b.t_s, b.index, a.t_s, a.index, a.line
+            ),
+        ),
+        _ => Ok(()),
     }
 }
 

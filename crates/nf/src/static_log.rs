@@ -9,8 +9,11 @@ use std::ops::Range;
 
 pub const FORMAT: &str = "northfinder-static/1";
 
-/// A step longer than this times the median step is a gap.
+/// A step longer than this times the median step is a gap, unless the times jitter more.
 pub const GAP_FACTOR: f64 = 1.5;
+/// Robust sigmas of the steps' own scatter beyond the median that a gap must exceed: with
+/// times jittered by a third of a step, a long step is the jitter, not a lost sample.
+pub const JITTER_SIGMAS: f64 = 5.0;
 
 /// A jump in time between two samples.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,7 +24,7 @@ pub struct Gap {
     pub to_s: f64,
 }
 
-/// How evenly a series is spaced: its median step and the runs between gaps.
+/// How evenly a series is spaced: its step and the runs between gaps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spacing {
     pub step_s: f64,
@@ -31,14 +34,20 @@ pub struct Spacing {
 
 impl Spacing {
     /// Splits increasing times `t_s` (at least two) where a step exceeds `GAP_FACTOR` times the
-    /// median step; `lines` gives each sample's line for the report.
+    /// median step and the steps' own jitter; `lines` gives each sample's line for the report.
+    /// The step is the mean within the segments: times rounded to the millisecond at 128 Hz
+    /// step by 8 ms mostly, and by 7.8125 ms on average.
     pub fn of(t_s: &[f64], lines: &[usize]) -> Spacing {
         let mut steps: Vec<f64> = t_s.windows(2).map(|w| w[1] - w[0]).collect();
         steps.sort_by(f64::total_cmp);
-        let step_s = steps[steps.len() / 2];
+        let median = steps[steps.len() / 2];
+        let mut off: Vec<f64> = steps.iter().map(|s| (s - median).abs()).collect();
+        off.sort_by(f64::total_cmp);
+        let jitter = 1.4826 * off[off.len() / 2];
+        let gap = median + ((GAP_FACTOR - 1.0) * median).max(JITTER_SIGMAS * jitter);
         let (mut segments, mut gaps, mut start) = (Vec::new(), Vec::new(), 0);
         for i in 1..t_s.len() {
-            if t_s[i] - t_s[i - 1] > GAP_FACTOR * step_s {
+            if t_s[i] - t_s[i - 1] > gap {
                 segments.push(start..i);
                 gaps.push(Gap {
                     line: lines.get(i).copied().unwrap_or(0),
@@ -49,6 +58,13 @@ impl Spacing {
             }
         }
         segments.push(start..t_s.len());
+        let (span, count) = segments
+            .iter()
+            .filter(|r| r.len() > 1)
+            .fold((0.0, 0usize), |(s, c), r| {
+                (s + t_s[r.end - 1] - t_s[r.start], c + r.len() - 1)
+            });
+        let step_s = if count > 0 { span / count as f64 } else { median };
         Spacing { step_s, segments, gaps }
     }
 }
@@ -69,6 +85,7 @@ impl StaticLog {
     pub fn parse(text: &str) -> Result<StaticLog, Error> {
         let head = Head::parse(text)?;
         head.require_format(FORMAT)?;
+        head.known(&["format", "sample_rate_hz"], &["t_s", "rate_dph", "temp_c"])?;
         head.require_columns(&["t_s", "rate_dph"])?;
         let required = |name: &str| head.col(name).expect("required column");
         let (ct, cr, ctemp) = (required("t_s"), required("rate_dph"), head.col("temp_c"));
@@ -139,6 +156,33 @@ mod tests {
         assert_eq!(log.spacing.gaps[0].line, 7);
         assert_eq!(log.segments()[1], &[4.0, 5.0]);
         assert_eq!(log.meta["sample_rate_hz"], "10");
+    }
+
+    /// A static log's text of `t` and a constant rate.
+    fn log_of(t: impl Iterator<Item = f64>) -> StaticLog {
+        let rows: String = t.map(|t| format!("{t},1\n")).collect();
+        StaticLog::parse(&format!("{HEAD}t_s,rate_dph\n{rows}")).unwrap()
+    }
+
+    #[test]
+    fn rounded_and_jittered_times_give_the_mean_step_and_a_lost_sample_is_still_a_gap() {
+        // 128 Hz written to the millisecond: steps of 7 and 8 ms, 7.8125 ms on average.
+        let rounded = log_of((0..4000).map(|i| (i as f64 / 128.0 * 1000.0).round() / 1000.0));
+        assert!(
+            (rounded.spacing.step_s - 1.0 / 128.0).abs() < 1e-6,
+            "{}",
+            rounded.spacing.step_s
+        );
+        assert!(rounded.spacing.gaps.is_empty());
+        // 100 Hz with +-3 ms of jitter: no gaps.
+        let mut rng = nf_model::rng::Rng::new(3);
+        let jittered = log_of((0..4000).map(|i| i as f64 * 0.01 + rng.uniform(-0.003, 0.003)));
+        assert!(jittered.spacing.gaps.is_empty(), "{:?}", &jittered.spacing.gaps[..3]);
+        assert!((jittered.spacing.step_s - 0.01).abs() < 1e-5);
+        // A sample lost from a clean log.
+        let lost = log_of((0..4000).filter(|&i| i != 2000).map(|i| i as f64 * 0.01));
+        assert_eq!(lost.spacing.segments, vec![0..2000, 2000..3999]);
+        assert!((lost.spacing.step_s - 0.01).abs() < 1e-12);
     }
 
     #[test]

@@ -53,12 +53,17 @@ pub struct Head<'a> {
     pub header: &'a str,
     pub names: Vec<String>,
     col: BTreeMap<String, usize>,
+    /// Metadata keys given again (the key, the first line and the repeat's), and column names
+    /// given again: harmless unless the reader uses them ([`Head::known`]).
+    repeated_meta: Vec<(String, usize, usize)>,
+    repeated_cols: Vec<String>,
 }
 
 impl<'a> Head<'a> {
     pub fn parse(text: &'a str) -> Result<Head<'a>, Error> {
         let mut meta = BTreeMap::new();
-        let mut meta_at = BTreeMap::new();
+        let mut meta_at: BTreeMap<String, usize> = BTreeMap::new();
+        let mut repeated = Vec::new();
         for (i, l) in text.lines().enumerate() {
             // A byte-order mark, as spreadsheet programs write UTF-8, is not part of the text.
             let l = if i == 0 {
@@ -71,7 +76,7 @@ impl<'a> Head<'a> {
                 continue;
             }
             let Some(m) = t.strip_prefix('#') else {
-                return Head::header(meta, meta_at, n, t);
+                return Head::header(meta, meta_at, repeated, n, t);
             };
             let Some((k, v)) = m.split_once('=') else {
                 return err(
@@ -83,10 +88,14 @@ impl<'a> Head<'a> {
             if k.is_empty() {
                 return err(n, "metadata line with an empty key");
             }
-            if meta.insert(k.clone(), v).is_some() {
-                return err(n, format!("metadata key '{k}' given twice"));
+            match meta_at.get(&k) {
+                // The first stands; whether a repeat matters is the reader's to say.
+                Some(&first) => repeated.push((k, first, n)),
+                None => {
+                    meta.insert(k.clone(), v);
+                    meta_at.insert(k, n);
+                }
             }
-            meta_at.insert(k, n);
         }
         err(0, "no header line: the file ends before the column names")
     }
@@ -94,6 +103,7 @@ impl<'a> Head<'a> {
     fn header(
         meta: BTreeMap<String, String>,
         meta_at: BTreeMap<String, usize>,
+        repeated_meta: Vec<(String, usize, usize)>,
         line: usize,
         header: &'a str,
     ) -> Result<Head<'a>, Error> {
@@ -103,9 +113,12 @@ impl<'a> Head<'a> {
             None => Vec::new(),
         };
         let mut col = BTreeMap::new();
-        for (i, name) in names.iter().enumerate() {
-            if !name.is_empty() && col.insert(name.clone(), i).is_some() {
-                return err(line, format!("column '{name}' appears twice"));
+        let mut repeated_cols = Vec::new();
+        for (i, name) in names.iter().enumerate().filter(|(_, n)| !n.is_empty()) {
+            if col.contains_key(name) {
+                repeated_cols.push(name.clone());
+            } else {
+                col.insert(name.clone(), i);
             }
         }
         Ok(Head {
@@ -115,7 +128,21 @@ impl<'a> Head<'a> {
             header,
             names,
             col,
+            repeated_meta,
+            repeated_cols,
         })
+    }
+
+    /// A metadata key or a column the reader uses may be given once only; the others it
+    /// ignores, repeated or not.
+    pub fn known(&self, keys: &[&str], columns: &[&str]) -> Result<(), Error> {
+        if let Some((k, first, n)) = self.repeated_meta.iter().find(|r| keys.contains(&r.0.as_str())) {
+            return err(*n, format!("metadata key '{k}' given twice (first on line {first})"));
+        }
+        match self.repeated_cols.iter().find(|c| columns.contains(&c.as_str())) {
+            Some(c) => err(self.line, format!("column '{c}' appears twice")),
+            None => Ok(()),
+        }
     }
 
     /// The line of a metadata key (0 when it is missing).
@@ -229,6 +256,15 @@ impl KindText for csv::Error {
     }
 }
 
+/// A file's text. Bytes that are not UTF-8 (a name in Latin-1 in a column no reader uses)
+/// become U+FFFD, so that a cell the reader needs fails with its line and column.
+pub fn read_text(path: &str) -> Result<String, Error> {
+    match std::fs::read(path) {
+        Ok(bytes) => Ok(String::from_utf8_lossy(&bytes).into_owned()),
+        Err(e) => err(0, format!("cannot read {path}: {e}")),
+    }
+}
+
 /// A required cell as a finite number; the error names the line and the column.
 pub fn number(line: usize, name: &str, v: &str) -> Result<f64, Error> {
     match v.parse::<f64>() {
@@ -265,7 +301,17 @@ mod tests {
         assert_eq!((*n, r.iter().collect::<Vec<_>>()), (5, vec!["1", "2"]));
         assert_eq!(rows[1].as_ref().unwrap_err().line, 7);
         assert_eq!(h.require_columns(&["t_s", "q"]).unwrap_err().line, 4);
-        assert_eq!(Head::parse("# a = 1\n# a = 2\nx\n").unwrap_err().line, 2);
+        let twice = Head::parse("# a = 1\n# b = 0\n# a = 2\nx,y,x\n").unwrap();
+        assert_eq!((twice.meta["a"].as_str(), twice.col("x")), ("1", Some(0)));
+        assert!(twice.known(&["b"], &["y"]).is_ok(), "repeats the reader ignores");
+        assert_eq!(
+            twice.known(&["a"], &[]).unwrap_err().to_string(),
+            "line 3: metadata key 'a' given twice (first on line 1)"
+        );
+        assert_eq!(
+            twice.known(&[], &["x"]).unwrap_err().to_string(),
+            "line 4: column 'x' appears twice"
+        );
         assert_eq!(h.meta_line("a"), 3);
         let bom = Head::parse("\u{FEFF}# format = x/1\nt_s\n").unwrap();
         assert!(bom.require_format("x/1").is_ok());

@@ -258,8 +258,16 @@ fn a_wild_dwell_mean_is_an_outlier_and_moves_neither_the_tilt_nor_the_azimuth() 
     assert!(clean.has_tilt_xy());
     let base = diagnose(&clean, &Options::default()).unwrap();
     let d = diagnose(&wild, &Options::default()).unwrap();
-    let out = d.findings.iter().find(|f| f.effect == Kind::Outliers).expect("the outlier is named");
+    let out = d
+        .findings
+        .iter()
+        .find(|f| f.effect == Kind::Outliers)
+        .expect("the outlier is named");
     assert!(out.location.contains("position 5"), "{}", out.location);
     let off = nf_model::angle::wrap_180(d.final_.azimuth_deg - base.final_.azimuth_deg) * 3600.0;
-    assert!(off.abs() < base.final_.sigma_arcsec, "{off}\" against {}\"", base.final_.sigma_arcsec);
+    assert!(
+        off.abs() < base.final_.sigma_arcsec,
+        "{off}\" against {}\"",
+        base.final_.sigma_arcsec
+    );
 }

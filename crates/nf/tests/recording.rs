@@ -101,9 +101,9 @@ fn every_bad_recording_names_the_line_and_the_problem() {
         ),
         ("# format = northfinder-recording/1\n# latitude_deg\n", 2, "without '='"),
         (
-            "# format = northfinder-recording/1\n# format = northfinder-recording/1\n",
+            "# format = northfinder-recording/1\n# format = northfinder-recording/1\nindex\n",
             2,
-            "given twice",
+            "given twice (first on line 1)",
         ),
         (
             "# format = northfinder-recording/1\n# latitude_deg = 4\nindex,t_s,rate_dph\n0,1,2\n",
@@ -153,6 +153,85 @@ fn every_bad_recording_names_the_line_and_the_problem() {
         assert_eq!(l, 4, "{msg}");
         assert!(msg.contains(what), "'{msg}' should say '{what}'");
     }
+}
+
+#[test]
+fn a_tilt_beyond_90_deg_is_no_reading_and_a_warning() {
+    let head = "# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg\n";
+    let r = Recording::parse(&format!("{head}0,1,0,1,0.01,-9999\n1,2,90,1,95,0.02\n")).unwrap();
+    let tilts: Vec<_> = r.rows.iter().map(|r| (r.tilt_x_deg, r.tilt_y_deg)).collect();
+    assert_eq!(tilts, [(Some(0.01), None), (None, Some(0.02))]);
+    let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(said.len(), 2);
+    assert!(
+        said[0].starts_with("line 4: tilt_y_deg -9999 is not an elevation"),
+        "{said:?}"
+    );
+    assert!(
+        said[1].starts_with("line 5: tilt_x_deg 95 is not an elevation"),
+        "{said:?}"
+    );
+}
+
+#[test]
+fn lines_out_of_visiting_order_are_taken_by_index_and_time_must_follow_it() {
+    let shuffled = Recording::parse(&format!("{HEAD}1,2,90,0\n0,1,0,1\n2,3,180,-1\n")).unwrap();
+    let order: Vec<(u32, usize)> = shuffled.rows.iter().map(|r| (r.index, r.line)).collect();
+    assert_eq!(order, [(0, 5), (1, 4), (2, 6)]);
+    assert!(
+        shuffled.warnings[0].what.contains("index order"),
+        "{:?}",
+        shuffled.warnings
+    );
+    assert!(Recording::parse(GOOD).unwrap().warnings.is_empty());
+    for (rows, line, what) in [
+        (
+            "0,2,0,1\n1,1,90,0\n",
+            5,
+            "t_s 1 of index 1 is not after t_s 2 of index 0 (line 4)",
+        ),
+        ("0,1,0,1\n1,1,90,0\n", 5, "is not after"),
+        (
+            "1,1,90,0\n0,2,0,1\n",
+            4,
+            "t_s 1 of index 1 is not after t_s 2 of index 0 (line 5)",
+        ),
+    ] {
+        let (l, msg) = error(&format!("{HEAD}{rows}"));
+        assert_eq!(l, line, "{msg}");
+        assert!(msg.contains(what), "'{msg}' should say '{what}'");
+    }
+}
+
+#[test]
+fn repeated_metadata_and_columns_the_reader_does_not_use_are_ignored() {
+    let text = "# format = northfinder-recording/1\n# operator = A\n# latitude_deg = 10\n# operator = B\n\
+                index,note,t_s,encoder_deg,rate_dph,note\n0,a,1,0,1,b\n1,c,2,90,0,d\n";
+    let r = Recording::parse(text).unwrap();
+    assert_eq!((r.rows.len(), r.meta["operator"].as_str()), (2, "A"));
+    let (l, msg) = error(&text.replace("# operator = B", "# latitude_deg = 11"));
+    assert_eq!(
+        (l, msg.as_str()),
+        (4, "line 4: metadata key 'latitude_deg' given twice (first on line 3)")
+    );
+}
+
+#[test]
+fn a_byte_that_is_not_utf8_in_a_column_no_one_reads_is_harmless() {
+    let dir = std::env::temp_dir().join(format!("nf-latin1-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run.csv");
+    let mut bytes = HEAD.replace("rate_dph\n", "rate_dph,operator\n").into_bytes();
+    bytes.extend_from_slice(b"0,1,0,1,Jos\xe9\n1,2,90,0,Jos\xe9\n");
+    std::fs::write(&path, &bytes).unwrap();
+    let r = Recording::read(path.to_str().unwrap()).unwrap();
+    assert_eq!(r.rows.len(), 2);
+    bytes.extend_from_slice(b"2,3,18\xb00,0,x\n");
+    std::fs::write(&path, &bytes).unwrap();
+    let e = Recording::read(path.to_str().unwrap()).unwrap_err();
+    assert_eq!(e.line, 6, "{e}");
+    assert!(e.to_string().contains("encoder_deg"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

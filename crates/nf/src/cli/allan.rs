@@ -70,7 +70,7 @@ fn check(a: &AllanArgs) -> Result<(), Fail> {
 
 pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     check(&a)?;
-    let text = std::fs::read_to_string(&a.file).map_err(|e| Fail(format!("cannot read {}: {e}", a.file), 2))?;
+    let text = crate::textfile::read_text(&a.file).map_err(|e| Fail(e.to_string(), 2))?;
     let src = Source::parse(&text, a.sample_rate).map_err(|e| Fail(e.at(&a.file), 2))?;
     let (points, fit) = fit_series(&src.segments(), src.sampling).map_err(|e| Fail(format!("{}: {e}", a.file), 1))?;
     let r = Report {
