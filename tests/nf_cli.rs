@@ -57,6 +57,26 @@ fn fit_recovers_psi_within_three_sigma_over_many_seeds() {
 }
 
 #[test]
+fn a_glitch_far_off_the_rest_is_pointed_out_and_clean_runs_have_none() {
+    let no_bootstrap = Options {
+        replicates: 0,
+        ..Options::default()
+    };
+    for seed in 0..20 {
+        let twin = TwinConfig {
+            seed,
+            ..TwinConfig::default()
+        };
+        let mut rec = twin_recording(&twin, 36);
+        assert!(analyse(&rec, &no_bootstrap).unwrap().wild.is_empty(), "seed {seed}");
+        rec.rows[7].rate_dph += 300.0;
+        let wild = analyse(&rec, &no_bootstrap).unwrap().wild;
+        assert_eq!(wild.len(), 1, "seed {seed}: {wild:?}");
+        assert_eq!((wild[0].index, wild[0].line), (7, rec.rows[7].line));
+    }
+}
+
+#[test]
 fn fit_with_tilts_up_to_1_deg_and_inclinometer_columns() {
     let (worst, rms) = worst_z(60, 1.0, &Options::default());
     println!("tilt up to 1 deg, exact correction: worst |error|/sigma {worst:.2}, rms {rms:.2}");
@@ -117,11 +137,15 @@ fn fit_of_a_bad_recording_names_the_line() {
     let (code, _, err) = nf(&["fit", "/nonexistent.csv"]);
     assert_eq!(code, 2);
     assert!(err.contains("cannot read"), "{err}");
-    // Three positions at one angle: nothing to fit.
+    // Three positions at one angle (a stalled motor): nothing to fit.
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,0,1\n2,3,0,1\n").unwrap();
     let (code, _, err) = nf(&["fit", &bad]);
     assert_eq!(code, 1);
-    assert!(err.contains("do not determine"), "{err}");
+    assert!(
+        err.contains("1 distinct angle(s) over 3 positions") && err.contains("did the shaft turn"),
+        "{err}"
+    );
+    std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,1\n2,3,180,1\n3,4,270,1\n").unwrap();
     let (code, _, err) = nf(&["fit", &bad, "--tilt", "exact"]);
     assert_eq!(code, 1);
     assert!(err.contains("needs tilt_x_deg and tilt_y_deg"), "{err}");

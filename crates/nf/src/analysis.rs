@@ -84,6 +84,40 @@ pub struct Analysis {
     pub sigma_gyro_dph: f64,
     /// The azimuth under the gyro's noise model (generalised least squares): the result.
     pub gls: NoiseFit,
+    /// Dwell means far off the rest, which the fit weighs like any other.
+    pub wild: Vec<Wild>,
+}
+
+/// A dwell mean [`WILD_SIGMAS`] robust sigmas or more off the white fit: a glitch or a fill
+/// value, which moves a least-squares azimuth; `nf diagnose` tests it as an outlier.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wild {
+    pub line: usize,
+    pub index: u32,
+    pub rate_dph: f64,
+    /// Its residual in robust sigmas (1.4826 times the median absolute residual).
+    pub sigmas: f64,
+}
+
+/// Far enough that no Gaussian dwell of any run gets there, and a 10-sigma glitch still
+/// does after it has pulled the fit towards itself.
+pub const WILD_SIGMAS: f64 = 8.0;
+
+fn wild(rec: &Recording, points: &[[f64; 5]]) -> Vec<Wild> {
+    let mut abs: Vec<f64> = points.iter().map(|p| p[4].abs()).collect();
+    abs.sort_by(f64::total_cmp);
+    let sigma = 1.4826 * abs[abs.len() / 2];
+    rec.rows
+        .iter()
+        .zip(points)
+        .filter(|(_, p)| sigma > 0.0 && p[4].abs() >= WILD_SIGMAS * sigma)
+        .map(|(r, p)| Wild {
+            line: r.line,
+            index: r.index,
+            rate_dph: r.rate_dph,
+            sigmas: p[4].abs() / sigma,
+        })
+        .collect()
 }
 
 fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64]) -> Result<FitResult<f64>, FitError> {
@@ -101,6 +135,7 @@ fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64]) -> Result<FitResult
 
 /// Fits a recording.
 pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
+    rec.require_turning()?;
     let lat = rec.latitude_deg;
     let method = opt.tilt.unwrap_or_else(|| tilt::auto_method(rec));
     let cfg = FitConfig {
@@ -121,7 +156,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
     })?;
     let fit = plain(cfg, rec, &tilt.corrections).map_err(fail)?;
     let (corrections, shaft, bridged) = (tilt.corrections, tilt.shaft, tilt.bridged);
-    let points = rec
+    let points: Vec<[f64; 5]> = rec
         .rows
         .iter()
         .zip(&corrections)
@@ -130,6 +165,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
             [r.encoder_deg, r.t_s, r.rate_dph, f, r.rate_dph - f]
         })
         .collect();
+    let wild = wild(rec, &points);
     let y: Vec<f64> = rec.rows.iter().zip(&corrections).map(|(r, c)| r.rate_dph - c).collect();
     let gls = noise_fit::fit(rec, &y, &cfg, &opt.noise, opt.replicates)?;
     let n = fit.n;
@@ -162,6 +198,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         points,
         sigma_gyro_dph,
         gls,
+        wild,
     })
 }
 

@@ -58,6 +58,8 @@ const COLUMNS: [&str; 13] = [
     "q4_dph",
 ];
 const KEYS: [&str; 4] = ["format", "latitude_deg", "dwell_s", "sample_rate_hz"];
+/// Encoder angles closer than this are one angle (the format writes 1e-7 deg).
+const ANGLE_RESOLUTION_DEG: f64 = 1e-6;
 
 impl Recording {
     pub fn parse(text: &str) -> Result<Recording, Error> {
@@ -182,6 +184,24 @@ impl Recording {
             line: e.line,
             what: format!("{path}: {}", e.what),
         })
+    }
+
+    /// Three distinct encoder angles at least, as `A cos + B sin + C` needs: a shaft that did
+    /// not turn (a stalled motor) gives a clear reason here rather than a singular fit.
+    pub fn require_turning(&self) -> Result<(), String> {
+        let mut angles: Vec<f64> = self.rows.iter().map(|r| r.encoder_deg).collect();
+        angles.sort_by(f64::total_cmp);
+        angles.dedup_by(|a, b| (*a - *b).abs() < ANGLE_RESOLUTION_DEG);
+        if angles.len() >= 3 {
+            return Ok(());
+        }
+        let seen: Vec<String> = angles.iter().map(|a| format!("{a}")).collect();
+        Err(format!(
+            "the encoder reads {} distinct angle(s) over {} positions ({} deg): the first harmonic A cos(gamma) + B sin(gamma) + C needs three at least; did the shaft turn (a stalled motor, an encoder that stopped answering)?",
+            angles.len(),
+            self.rows.len(),
+            seen.join(", ")
+        ))
     }
 
     /// Whether every row has an inclinometer X (and Y) reading.

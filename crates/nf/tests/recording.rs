@@ -267,3 +267,22 @@ fn a_repeated_index_is_an_error_unless_the_line_is_an_exact_copy() {
     let r = Recording::parse(&format!("{HEAD}0,1,0,4.5\n1,3,90,-9.9\n2,5,90,-9.8\n3,7,0,4.4\n")).unwrap();
     assert!(r.warnings.is_empty() && r.rows.len() == 4);
 }
+
+#[test]
+fn a_shaft_that_did_not_turn_is_said_plainly() {
+    let stuck: String = (0..36).map(|i| format!("{i},{},10,1\n", i + 1)).collect();
+    let e = Recording::parse(&format!("{HEAD}{stuck}"))
+        .unwrap()
+        .require_turning()
+        .unwrap_err();
+    assert!(e.contains("1 distinct angle(s) over 36 positions (10 deg)"), "{e}");
+    let two: String = (0..36).map(|i| format!("{i},{},{},1\n", i + 1, 90 * (i % 2))).collect();
+    assert!(
+        Recording::parse(&format!("{HEAD}{two}"))
+            .unwrap()
+            .require_turning()
+            .is_err()
+    );
+    let three = format!("{HEAD}0,1,0,1\n1,2,120,1\n2,3,240.0000001,1\n");
+    assert!(Recording::parse(&three).unwrap().require_turning().is_ok());
+}

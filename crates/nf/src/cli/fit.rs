@@ -195,6 +195,13 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             an.tilt_bridged
         )?;
     }
+    for w in &an.wild {
+        writeln!(
+            out,
+            "far off        line {} (index {}): rate_dph {} lies {:.0} robust sigmas off the fit; this fit weighs it like every dwell (a glitch moves the azimuth): `nf diagnose` tests it as an outlier and fits around it",
+            w.line, w.index, w.rate_dph, w.sigmas
+        )?;
+    }
     let (d1, d2) = f.drift();
     if opt.drift != Drift::None {
         writeln!(out, "drift          {d1:.3e} deg/h/s, {d2:.3e} deg/h/s^2")?;

@@ -121,6 +121,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     if n < 8 {
         return Err(format!("{n} positions: diagnosing needs at least 8"));
     }
+    rec.require_turning()?;
     let started = std::time::Instant::now();
     let d = Data::new(rec);
     let white = Whitener::identity();

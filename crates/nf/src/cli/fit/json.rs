@@ -30,6 +30,8 @@ pub(super) struct FitJson {
     drift_dph_per_s2: f64,
     /// Whether the Earth rate is resolved; without it no azimuth can be given.
     earth_rate_resolved: bool,
+    /// Dwell means far off the fit (a glitch or a fill value), weighed like the others.
+    far_off: Vec<FarOff>,
     /// Latitude of the recording, deg.
     latitude_deg: f64,
     /// How the azimuth was fitted.
@@ -98,6 +100,15 @@ struct NoiseModelJson {
 
 /// The white-noise least-squares fit.
 #[derive(Serialize)]
+struct FarOff {
+    index: u32,
+    line: usize,
+    rate_dph: f64,
+    /// The residual in robust sigmas of the white fit's residuals.
+    robust_sigmas: f64,
+}
+
+#[derive(Serialize)]
 struct Ols {
     /// Azimuth psi, deg.
     azimuth_deg: f64,
@@ -123,6 +134,16 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
         drift_dph_per_s: d1,
         drift_dph_per_s2: d2,
         earth_rate_resolved: unresolved.is_none(),
+        far_off: an
+            .wild
+            .iter()
+            .map(|w| FarOff {
+                index: w.index,
+                line: w.line,
+                rate_dph: w.rate_dph,
+                robust_sigmas: w.sigmas,
+            })
+            .collect(),
         latitude_deg: an.latitude_deg,
         method: "generalised least squares under the gyro noise model",
         n: f.n,
