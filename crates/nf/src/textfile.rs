@@ -274,9 +274,12 @@ pub fn number(line: usize, name: &str, v: &str) -> Result<f64, Error> {
     }
 }
 
-/// An optional cell: empty, `nan` or `na` is a missing value.
+/// What spreadsheets, pandas, R and databases write for no value, in any case.
+const MISSING: [&str; 8] = ["nan", "-nan", "na", "n/a", "#n/a", "null", "none", "-"];
+
+/// An optional cell: empty or one of [`MISSING`] is a missing value.
 pub fn optional(line: usize, name: &str, v: &str) -> Result<Option<f64>, Error> {
-    if v.is_empty() || v.eq_ignore_ascii_case("nan") || v.eq_ignore_ascii_case("na") {
+    if v.is_empty() || MISSING.iter().any(|m| v.eq_ignore_ascii_case(m)) {
         return Ok(None);
     }
     match v.parse::<f64>() {
@@ -320,7 +323,10 @@ mod tests {
             number(3, "t_s", "inf").unwrap_err().to_string(),
             "line 3: t_s 'inf' is not a finite number"
         );
-        assert_eq!(optional(3, "temp_c", "NaN"), Ok(None));
+        for none in ["NaN", "-nan", "NA", "N/A", "#N/A", "null", "None", "-"] {
+            assert_eq!(optional(3, "temp_c", none), Ok(None), "{none}");
+        }
+        assert!(optional(3, "temp_c", "--").is_err());
         assert_eq!(
             Error {
                 line: 2,
