@@ -139,12 +139,14 @@ fn fit_of_a_bad_recording_names_the_line() {
     assert!(err.contains("cannot read"), "{err}");
     // Three positions at one angle (a stalled motor): nothing to fit.
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,0,1\n2,3,0,1\n").unwrap();
-    let (code, _, err) = nf(&["fit", &bad]);
-    assert_eq!(code, 1);
-    assert!(
-        err.contains("1 distinct angle(s) over 3 positions") && err.contains("did the shaft turn"),
-        "{err}"
-    );
+    for cmd in ["fit", "diagnose"] {
+        let (code, out, err) = nf(&[cmd, &bad]);
+        assert_eq!((code, out.as_str()), (2, ""), "{cmd}");
+        assert!(
+            err.contains("1 distinct angle(s) over 3 positions") && err.contains("did the shaft turn"),
+            "{err}"
+        );
+    }
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,1\n2,3,180,1\n3,4,270,1\n").unwrap();
     let (code, _, err) = nf(&["fit", &bad, "--tilt", "exact"]);
     assert_eq!(code, 1);

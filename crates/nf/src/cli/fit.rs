@@ -95,6 +95,9 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         replicates: usize::from(a.replicates),
         ..Options::default()
     };
+    // A shaft that did not turn is bad input, like a malformed line.
+    rec.require_turning()
+        .map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;
     let an = analyse(&rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
     if let Some(p) = &a.plot {
         plot::write(p, &fit_panels(&an))?;
