@@ -58,6 +58,9 @@ const COLUMNS: [&str; 13] = [
     "q4_dph",
 ];
 const KEYS: [&str; 4] = ["format", "latitude_deg", "dwell_s", "sample_rate_hz"];
+/// A rate no gyro gives (3e8 deg/s): a value this size is a fault, and its square would
+/// leave no precision for the others.
+const MAX_RATE_DPH: f64 = 1e12;
 /// Encoder angles closer than this are one angle (the format writes 1e-7 deg).
 const ANGLE_RESOLUTION_DEG: f64 = 1e-6;
 
@@ -152,12 +155,25 @@ impl Recording {
                     None
                 }
             };
+            let rate_dph = num("rate_dph")?;
+            for (name, v) in std::iter::once(("rate_dph", rate_dph)).chain(
+                ["q1_dph", "q2_dph", "q3_dph", "q4_dph"]
+                    .into_iter()
+                    .zip(quarters.into_iter().flatten()),
+            ) {
+                if v.abs() >= MAX_RATE_DPH {
+                    return err(
+                        n,
+                        format!("{name} {v:e} is beyond any gyro's range (|rate| below {MAX_RATE_DPH:e} deg/h)"),
+                    );
+                }
+            }
             rows.push(Row {
                 line: n,
                 index: index as u32,
                 t_s: num("t_s")?,
                 encoder_deg,
-                rate_dph: num("rate_dph")?,
+                rate_dph,
                 rate_sd_dph,
                 samples,
                 temp_c: optional("temp_c")?,

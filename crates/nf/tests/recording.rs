@@ -133,6 +133,8 @@ fn every_bad_recording_names_the_line_and_the_problem() {
         ("-1,1,0,1", "index '-1' is not a whole number"),
         ("1.5,1,0,1", "is not a whole number"),
         ("0,nan,0,1", "t_s 'nan' is not a finite number"),
+        ("0,1,0,1e300", "rate_dph 1e300 is beyond any gyro's range"),
+        ("0,1,0,-1e12", "beyond any gyro's range"),
     ];
     for (row, what) in rows {
         let text = format!("{HEAD}9,0.5,10,1\n{row}\n");
