@@ -271,3 +271,25 @@ fn a_wild_dwell_mean_is_an_outlier_and_moves_neither_the_tilt_nor_the_azimuth() 
         base.final_.sigma_arcsec
     );
 }
+
+#[test]
+fn the_noise_estimate_takes_the_quarters_of_the_dwells_that_have_them() {
+    // A writer that leaves some dwells' quarter cells empty: the rest still show the noise
+    // inside a dwell (without them the sigma came out 50 % larger).
+    let full = recording(&quiet_twin(8));
+    let mut part = full.clone();
+    for row in part.rows.iter_mut().step_by(4) {
+        row.quarters_dph = None;
+    }
+    let (a, b) = (
+        diagnose(&full, &Options::default()).unwrap(),
+        diagnose(&part, &Options::default()).unwrap(),
+    );
+    assert!(
+        b.noise_source.contains("quarter means of 36 dwells"),
+        "{}",
+        b.noise_source
+    );
+    let ratio = b.final_.sigma_arcsec / a.final_.sigma_arcsec;
+    assert!((0.9..1.1).contains(&ratio), "{ratio}");
+}

@@ -112,7 +112,9 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             whitening,
         });
     }
-    let quarters: Vec<[f64; 4]> = d.quarters.clone().unwrap_or_default();
+    // The quarters show the short-time noise inside each dwell, whichever dwells have them
+    // (as `nf fit` takes them).
+    let quarters: Vec<[f64; 4]> = d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
     let robust = with_bursts_held_out(d, &cols, y);
     // With a drift in the design too: the wander a random walk makes beyond a smooth curve,
     // under which a drift or a jump is judged (below).
