@@ -99,8 +99,7 @@ pub struct Wild {
     pub sigmas: f64,
 }
 
-/// Far enough that no Gaussian dwell of any run gets there, and a 10-sigma glitch still
-/// does after it has pulled the fit towards itself.
+/// Far enough that no Gaussian dwell of a run of a million gets there (p 1e-15 each).
 pub const WILD_SIGMAS: f64 = 8.0;
 
 fn wild(rec: &Recording, points: &[[f64; 5]]) -> Vec<Wild> {

@@ -41,7 +41,7 @@ pub struct Recording {
 }
 
 const REQUIRED: [&str; 4] = ["index", "t_s", "encoder_deg", "rate_dph"];
-/// Every column the reader uses, and the metadata it reads.
+/// Every column the reader uses: each may be given once only.
 const COLUMNS: [&str; 13] = [
     "index",
     "t_s",
@@ -57,6 +57,7 @@ const COLUMNS: [&str; 13] = [
     "q3_dph",
     "q4_dph",
 ];
+/// The metadata the readers of a recording use: each may be given once only.
 const KEYS: [&str; 4] = ["format", "latitude_deg", "dwell_s", "sample_rate_hz"];
 /// A rate no gyro gives (3e8 deg/s): a value this size is a fault, and its square would
 /// leave no precision for the others.
