@@ -73,7 +73,15 @@ impl Recording {
         let meta = head.meta.clone();
         let at = head.meta_line("latitude_deg");
         let latitude_deg: f64 = match meta.get("latitude_deg") {
-            None => return err(0, "required metadata 'latitude_deg' is missing"),
+            None => {
+                return err(
+                    0,
+                    format!(
+                        "required metadata 'latitude_deg' is missing{}",
+                        head.other_case("latitude_deg")
+                    ),
+                );
+            }
             Some(v) => match v.parse::<f64>() {
                 Ok(l) if l.abs() < 90.0 => l,
                 Ok(l) if l.abs() == 90.0 => {

@@ -145,6 +145,17 @@ impl<'a> Head<'a> {
         }
     }
 
+    /// Where a missing metadata key is written in another case: `; line 2 has 'Format'
+    /// (keys are case-sensitive)`, else nothing.
+    pub fn other_case(&self, key: &str) -> String {
+        self.meta_at
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(key))
+            .map_or(String::new(), |(k, n)| {
+                format!("; line {n} has '{k}' (keys are case-sensitive)")
+            })
+    }
+
     /// The line of a metadata key (0 when it is missing).
     pub fn meta_line(&self, key: &str) -> usize {
         self.meta_at.get(key).copied().unwrap_or(0)
@@ -155,7 +166,10 @@ impl<'a> Head<'a> {
         match self.meta.get("format").map(String::as_str) {
             None => err(
                 0,
-                format!("required metadata 'format' is missing (expected 'format = {want}')"),
+                format!(
+                    "required metadata 'format' is missing (expected 'format = {want}'){}",
+                    self.other_case("format")
+                ),
             ),
             Some(f) if f == want => Ok(()),
             Some(f) => err(0, format!("format '{f}' is not supported (this reader knows {want})")),
@@ -304,6 +318,11 @@ mod tests {
         assert_eq!((*n, r.iter().collect::<Vec<_>>()), (5, vec!["1", "2"]));
         assert_eq!(rows[1].as_ref().unwrap_err().line, 7);
         assert_eq!(h.require_columns(&["t_s", "q"]).unwrap_err().line, 4);
+        let cased = Head::parse("# Format = x/1\nt_s\n").unwrap();
+        assert_eq!(
+            cased.require_format("x/1").unwrap_err().to_string(),
+            "required metadata 'format' is missing (expected 'format = x/1'); line 1 has 'Format' (keys are case-sensitive)"
+        );
         let twice = Head::parse("# a = 1\n# b = 0\n# a = 2\nx,y,x\n").unwrap();
         assert_eq!((twice.meta["a"].as_str(), twice.col("x")), ("1", Some(0)));
         assert!(twice.known(&["b"], &["y"]).is_ok(), "repeats the reader ignores");

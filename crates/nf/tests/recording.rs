@@ -116,6 +116,11 @@ fn every_bad_recording_names_the_line_and_the_problem() {
             "appears twice",
         ),
         (HEAD, 0, "no positions"),
+        (
+            "# format = northfinder-recording/1\n# Latitude_deg = 4\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
+            0,
+            "'latitude_deg' is missing; line 2 has 'Latitude_deg' (keys are case-sensitive)",
+        ),
     ];
     for (text, line, what) in cases {
         let (l, msg) = error(text);
