@@ -50,7 +50,10 @@ impl Source {
             Some(static_log::FORMAT) => from_static(StaticLog::parse(text)?, sample_rate_hz),
             Some(recording::FORMAT) => from_recording(&Recording::parse(text)?, sample_rate_hz)?,
             other => {
-                let what = other.map_or("no 'format' metadata".to_string(), |f| format!("format '{f}'"));
+                let what = other.map_or_else(
+                    || format!("no 'format' metadata{}", head.misplaced(text, "format")),
+                    |f| format!("format '{f}'"),
+                );
                 return err(
                     0,
                     format!(

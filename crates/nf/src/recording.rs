@@ -68,7 +68,7 @@ const ANGLE_RESOLUTION_DEG: f64 = 1e-6;
 impl Recording {
     pub fn parse(text: &str) -> Result<Recording, Error> {
         let head = Head::parse(text)?;
-        head.require_format(FORMAT)?;
+        head.require_format(text, FORMAT)?;
         head.known(&KEYS, &COLUMNS)?;
         let meta = head.meta.clone();
         let at = head.meta_line("latitude_deg");
@@ -78,7 +78,7 @@ impl Recording {
                     0,
                     format!(
                         "required metadata 'latitude_deg' is missing{}",
-                        head.other_case("latitude_deg")
+                        head.misplaced(text, "latitude_deg")
                     ),
                 );
             }

@@ -84,7 +84,7 @@ pub struct StaticLog {
 impl StaticLog {
     pub fn parse(text: &str) -> Result<StaticLog, Error> {
         let head = Head::parse(text)?;
-        head.require_format(FORMAT)?;
+        head.require_format(text, FORMAT)?;
         head.known(&["format", "sample_rate_hz"], &["t_s", "rate_dph", "temp_c"])?;
         head.require_columns(&["t_s", "rate_dph"])?;
         let required = |name: &str| head.col(name).expect("required column");

@@ -145,15 +145,21 @@ impl<'a> Head<'a> {
         }
     }
 
-    /// Where a missing metadata key is written in another case: `; line 2 has 'Format'
-    /// (keys are case-sensitive)`, else nothing.
-    pub fn other_case(&self, key: &str) -> String {
-        self.meta_at
-            .iter()
-            .find(|(k, _)| k.eq_ignore_ascii_case(key))
-            .map_or(String::new(), |(k, n)| {
-                format!("; line {n} has '{k}' (keys are case-sensitive)")
-            })
+    /// Where a missing metadata key is written all the same: in another case before the
+    /// header, or after the header, where a `#` line is a comment. Empty when nowhere.
+    pub fn misplaced(&self, text: &str, key: &str) -> String {
+        let found = text.lines().enumerate().find_map(|(i, l)| {
+            let (k, _) = l.trim().strip_prefix('#')?.split_once('=')?;
+            let k = k.trim();
+            k.eq_ignore_ascii_case(key).then_some((i + 1, k))
+        });
+        match found {
+            Some((n, k)) if n > self.line => {
+                format!("; line {n} has '{k}' after the header, where '#' lines are comments")
+            }
+            Some((n, k)) => format!("; line {n} has '{k}' (keys are case-sensitive)"),
+            None => String::new(),
+        }
     }
 
     /// The line of a metadata key (0 when it is missing).
@@ -162,13 +168,13 @@ impl<'a> Head<'a> {
     }
 
     /// The `format` metadata must be `want`.
-    pub fn require_format(&self, want: &str) -> Result<(), Error> {
+    pub fn require_format(&self, text: &str, want: &str) -> Result<(), Error> {
         match self.meta.get("format").map(String::as_str) {
             None => err(
                 0,
                 format!(
                     "required metadata 'format' is missing (expected 'format = {want}'){}",
-                    self.other_case("format")
+                    self.misplaced(text, "format")
                 ),
             ),
             Some(f) if f == want => Ok(()),
@@ -312,16 +318,29 @@ mod tests {
         let h = Head::parse(text).unwrap();
         assert_eq!((h.line, h.meta["a"].as_str()), (4, "b = c"));
         assert_eq!((h.col("rate_dph"), h.col("temp_c")), (Some(1), None));
-        assert!(h.require_format("x/1").is_ok() && h.require_format("y/1").is_err());
+        assert!(h.require_format(text, "x/1").is_ok() && h.require_format(text, "y/1").is_err());
         let rows: Vec<_> = h.rows(text).collect();
         let (n, r) = rows[0].as_ref().unwrap();
         assert_eq!((*n, r.iter().collect::<Vec<_>>()), (5, vec!["1", "2"]));
         assert_eq!(rows[1].as_ref().unwrap_err().line, 7);
         assert_eq!(h.require_columns(&["t_s", "q"]).unwrap_err().line, 4);
-        let cased = Head::parse("# Format = x/1\nt_s\n").unwrap();
+        let cased = "# Format = x/1\nt_s\n";
         assert_eq!(
-            cased.require_format("x/1").unwrap_err().to_string(),
+            Head::parse(cased)
+                .unwrap()
+                .require_format(cased, "x/1")
+                .unwrap_err()
+                .to_string(),
             "required metadata 'format' is missing (expected 'format = x/1'); line 1 has 'Format' (keys are case-sensitive)"
+        );
+        let late = "t_s\n# format = x/1\n1\n";
+        assert!(
+            Head::parse(late)
+                .unwrap()
+                .require_format(late, "x/1")
+                .unwrap_err()
+                .to_string()
+                .ends_with("; line 2 has 'format' after the header, where '#' lines are comments")
         );
         let twice = Head::parse("# a = 1\n# b = 0\n# a = 2\nx,y,x\n").unwrap();
         assert_eq!((twice.meta["a"].as_str(), twice.col("x")), ("1", Some(0)));
@@ -336,7 +355,7 @@ mod tests {
         );
         assert_eq!(h.meta_line("a"), 3);
         let bom = Head::parse("\u{FEFF}# format = x/1\nt_s\n").unwrap();
-        assert!(bom.require_format("x/1").is_ok());
+        assert!(bom.require_format("", "x/1").is_ok());
         assert_eq!(Head::parse("\u{FEFF}t_s,x\n").unwrap().col("t_s"), Some(0));
         assert_eq!(
             number(3, "t_s", "inf").unwrap_err().to_string(),
