@@ -105,8 +105,8 @@ pub struct Diagnosis {
     pub timing: Timing,
 }
 
-/// Wall time of a diagnosis's parts, s: the noise estimate, the selection (every step), and
-/// the whole.
+/// Wall time of a diagnosis's parts, s: the noise estimate, the selection (and how many
+/// steps it took), and the whole.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Timing {
     pub noise_s: f64,
