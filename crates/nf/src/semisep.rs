@@ -239,17 +239,28 @@ impl Semisep {
         Some(f)
     }
 
+    /// Window `k`'s generators where they are kept (time order): the rungs' gain and decay,
+    /// shared by every factor of the windows (a rung's `u` is `rung_sd` times its gain), and
+    /// the other terms' `u` and `phi`.
+    fn parts(&self, k: usize) -> (&[f64], &[f64], &[f64], &[f64]) {
+        let (all, e) = (self.windows.rungs.len(), self.r - self.rungs);
+        (
+            &self.windows.gain[k * all..k * all + self.rungs],
+            &self.windows.decay[k * all..k * all + self.rungs],
+            &self.extra_u[k * e..(k + 1) * e],
+            &self.extra_phi[k * e..(k + 1) * e],
+        )
+    }
+
     /// Window `k`'s `u` and `phi` (time order).
     fn generators(&self, k: usize, u: &mut [f64], phi: &mut [f64]) {
-        let all = self.windows.rungs.len();
-        let (gain, decay) = (&self.windows.gain[k * all..], &self.windows.decay[k * all..]);
+        let (gain, decay, xu, xphi) = self.parts(k);
         for j in 0..self.rungs {
             u[j] = self.rung_sd * gain[j];
             phi[j] = decay[j];
         }
-        let e = self.r - self.rungs;
-        u[self.rungs..].copy_from_slice(&self.extra_u[k * e..(k + 1) * e]);
-        phi[self.rungs..].copy_from_slice(&self.extra_phi[k * e..(k + 1) * e]);
+        u[self.rungs..].copy_from_slice(xu);
+        phi[self.rungs..].copy_from_slice(xphi);
     }
 
     /// A whitening of `v` (in the caller's order): `P^T D^-1/2 L^-1 P v`, whose Gram matrix is
@@ -281,12 +292,11 @@ impl Semisep {
     fn forward(&self, mut step: impl FnMut(usize, usize, f64) -> f64) {
         // The hot loop of every whitening: the rungs are read in place, not copied.
         let (r, m) = (self.r, self.rungs);
-        let (all, e) = (self.windows.rungs.len(), r - m);
+        let e = r - m;
         let mut f = vec![0.0; r];
         let mut prev = 0.0;
         for (k, &i) in self.windows.order.iter().enumerate() {
-            let (gain, decay) = (&self.windows.gain[k * all..], &self.windows.decay[k * all..]);
-            let (xu, xphi) = (&self.extra_u[k * e..(k + 1) * e], &self.extra_phi[k * e..(k + 1) * e]);
+            let (gain, decay, xu, xphi) = self.parts(k);
             if k > 0 {
                 let w = &self.w[(k - 1) * r..k * r];
                 for a in 0..m {
