@@ -1,6 +1,7 @@
 //! The fit of a recording: the azimuth with the tilt correction the recording allows, its
 //! uncertainty from the residuals and from the budgets, the residuals themselves.
 
+use crate::far_off::{self, Wild};
 use crate::noise_calib;
 use crate::noise_fit::{self, NoiseChoice, NoiseFit};
 use crate::recording::Recording;
@@ -84,52 +85,8 @@ pub struct Analysis {
     pub sigma_gyro_dph: f64,
     /// The azimuth under the gyro's noise model (generalised least squares): the result.
     pub gls: NoiseFit,
-    /// Dwell means far off the rest, which the fit weighs like any other.
+    /// Dwell means far off the rest: glitches held out of the fit, or listed only.
     pub wild: Vec<Wild>,
-}
-
-/// A dwell mean [`WILD_SIGMAS`] robust sigmas or more off the white fit: a glitch or a fill
-/// value, which moves a least-squares azimuth; `nf diagnose` tests it as an outlier.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Wild {
-    pub line: usize,
-    pub index: u32,
-    pub rate_dph: f64,
-    /// Its residual in robust sigmas (1.4826 times the median absolute residual).
-    pub sigmas: f64,
-}
-
-/// Far enough that no Gaussian dwell of a run of a million gets there (p 1e-15 each).
-pub const WILD_SIGMAS: f64 = 8.0;
-
-fn wild(rec: &Recording, points: &[[f64; 5]]) -> Vec<Wild> {
-    let mut abs: Vec<f64> = points.iter().map(|p| p[4].abs()).collect();
-    abs.sort_by(f64::total_cmp);
-    let sigma = 1.4826 * abs[abs.len() / 2];
-    rec.rows
-        .iter()
-        .zip(points)
-        .filter(|(_, p)| sigma > 0.0 && p[4].abs() >= WILD_SIGMAS * sigma)
-        .map(|(r, p)| Wild {
-            line: r.line,
-            index: r.index,
-            rate_dph: r.rate_dph,
-            sigmas: p[4].abs() / sigma,
-        })
-        .collect()
-}
-
-fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64]) -> Result<FitResult<f64>, FitError> {
-    let obs: Vec<Obs<f64>> = rec
-        .rows
-        .iter()
-        .zip(corr)
-        .map(|(r, c)| Obs {
-            t_s: r.t_s,
-            ..Obs::new(r.encoder_deg, r.rate_dph - c)
-        })
-        .collect();
-    AzimuthFit::fit_all(cfg, &obs)
 }
 
 /// Fits a recording.
@@ -142,31 +99,24 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         harmonics: opt.harmonics,
         ..FitConfig::default()
     };
-    let fail = |e: FitError| match e {
-        FitError::NonFinite { index } | FitError::BadWeight { index } | FitError::MissingTilt { index } => {
-            format!("line {}: {e}", rec.rows[index as usize].line)
-        }
-        e => format!("the fit failed: {e}"),
-    };
-    let tilt = tilt::correct(rec, method, |corr| {
-        plain(cfg, rec, corr)
-            .map(|f| (f.psi_deg, f.amplitude_dph))
-            .map_err(fail)
-    })?;
-    let fit = plain(cfg, rec, &tilt.corrections).map_err(fail)?;
+    let Plain {
+        tilt,
+        fit,
+        points,
+        wild,
+        out,
+    } = plain_holding_out(rec, method, cfg)?;
     let (corrections, shaft, bridged) = (tilt.corrections, tilt.shaft, tilt.bridged);
-    let points: Vec<[f64; 5]> = rec
-        .rows
+    let used = Recording {
+        rows: out_of(&rec.rows, &out),
+        ..rec.clone()
+    };
+    let y: Vec<f64> = out_of(&rec.rows, &out)
         .iter()
-        .zip(&corrections)
-        .map(|(r, c)| {
-            let f = fit.predict(r.encoder_deg, r.t_s, None) + c;
-            [r.encoder_deg, r.t_s, r.rate_dph, f, r.rate_dph - f]
-        })
+        .zip(out_of(&corrections, &out))
+        .map(|(r, c)| r.rate_dph - c)
         .collect();
-    let wild = wild(rec, &points);
-    let y: Vec<f64> = rec.rows.iter().zip(&corrections).map(|(r, c)| r.rate_dph - c).collect();
-    let gls = noise_fit::fit(rec, &y, &cfg, &opt.noise, opt.replicates)?;
+    let gls = noise_fit::fit(&used, &y, &cfg, &opt.noise, opt.replicates)?;
     let n = fit.n;
     let sigma_gyro_dph = fit.s2.sqrt();
     // With the tilt measured, what is left of it is the inclinometer's uncertainty.
@@ -199,6 +149,85 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         gls,
         wild,
     })
+}
+
+/// White least squares with the tilt correction, the dwell means far off it held out.
+struct Plain {
+    tilt: tilt::Tilt,
+    fit: FitResult<f64>,
+    /// `(gamma, t, rate, fitted, residual)` of every row, held out or not.
+    points: Vec<[f64; 5]>,
+    wild: Vec<Wild>,
+    /// The rows held out.
+    out: Vec<usize>,
+}
+
+fn plain_holding_out(rec: &Recording, method: TiltMethod, cfg: FitConfig<f64>) -> Result<Plain, String> {
+    // A glitch moves a least-squares azimuth and, through the fitted amplitude, the exact tilt
+    // correction: dwell means far off the fit of the others are held out, and looked for
+    // again without them (one large glitch hides a smaller one).
+    let mut out: Vec<usize> = Vec::new();
+    let mut pass = 0;
+    loop {
+        let kept: Vec<usize> = (0..rec.rows.len()).filter(|i| !out.contains(i)).collect();
+        let tilt = tilt::correct(rec, method, |corr| {
+            plain(cfg, rec, corr, &kept).map(|f| (f.psi_deg, f.amplitude_dph))
+        })?;
+        let fit = plain(cfg, rec, &tilt.corrections, &kept)?;
+        let points: Vec<[f64; 5]> = rec
+            .rows
+            .iter()
+            .zip(&tilt.corrections)
+            .map(|(r, c)| {
+                let f = fit.predict(r.encoder_deg, r.t_s, None) + c;
+                [r.encoder_deg, r.t_s, r.rate_dph, f, r.rate_dph - f]
+            })
+            .collect();
+        let residuals: Vec<f64> = points.iter().map(|p| p[4]).collect();
+        let found = far_off::find(&residuals, &kept);
+        let hold = far_off::to_hold(&found, rec.rows.len());
+        pass += 1;
+        if hold == out || pass == far_off::PASSES {
+            let wild = far_off::describe(rec, &residuals, &kept, &found, &out);
+            return Ok(Plain {
+                tilt,
+                fit,
+                points,
+                wild,
+                out,
+            });
+        }
+        out = hold;
+    }
+}
+
+/// Least squares on the rows `kept`, less their corrections; an error names its line.
+fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64], kept: &[usize]) -> Result<FitResult<f64>, String> {
+    let obs: Vec<Obs<f64>> = kept
+        .iter()
+        .map(|&i| {
+            let r = &rec.rows[i];
+            Obs {
+                t_s: r.t_s,
+                ..Obs::new(r.encoder_deg, r.rate_dph - corr[i])
+            }
+        })
+        .collect();
+    AzimuthFit::fit_all(cfg, &obs).map_err(|e| match e {
+        FitError::NonFinite { index } | FitError::BadWeight { index } | FitError::MissingTilt { index } => {
+            format!("line {}: {e}", rec.rows[kept[index as usize]].line)
+        }
+        e => format!("the fit failed: {e}"),
+    })
+}
+
+/// The items not at the indices `out`.
+fn out_of<T: Clone>(all: &[T], out: &[usize]) -> Vec<T> {
+    all.iter()
+        .enumerate()
+        .filter(|(i, _)| !out.contains(i))
+        .map(|(_, v)| v.clone())
+        .collect()
 }
 
 /// Scatter (deg) of the inclinometer X readings about their tilt circle `C + A cos + B sin`.

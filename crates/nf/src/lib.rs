@@ -7,6 +7,7 @@ pub mod allan_source;
 pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;
+pub mod far_off;
 pub mod gls;
 pub mod instrument_file;
 pub(crate) mod linfit;

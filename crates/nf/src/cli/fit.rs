@@ -109,7 +109,9 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     writeln!(
         out,
         "recording      {} ({} positions, latitude {} deg)",
-        a.recording, f.n, an.latitude_deg
+        a.recording,
+        rec.rows.len(),
+        an.latitude_deg
     )?;
     if let Some(why) = g.unresolved(an.amplitude_predicted_dph) {
         writeln!(
@@ -181,7 +183,7 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             "tilt           corrected with the exact model, iterated to convergence: shaft tilt {:.4} deg towards {:.1} deg (from {} X/Y readings)",
             s.tilt_deg,
             s.tilt_dir_deg,
-            f.n as usize - an.tilt_bridged
+            rec.rows.len() - an.tilt_bridged
         )?,
         (TiltMethod::FirstOrder, _) => {
             writeln!(out, "tilt           corrected per position from tilt_x (first order)")?
@@ -199,9 +201,14 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         )?;
     }
     for w in &an.wild {
+        let what = if w.held_out {
+            "held out of this fit (a glitch or a fill value; `nf diagnose` tests it as an outlier)"
+        } else {
+            "kept: more than a tenth of the dwells lie this far off, which is the data (a model the fit lacks, heavy tails), not glitches"
+        };
         writeln!(
             out,
-            "far off        line {} (index {}): rate_dph {} lies {:.0} robust sigmas off the fit; this fit weighs it like every dwell (a glitch moves the azimuth): `nf diagnose` tests it as an outlier and fits around it",
+            "far off        line {} (index {}): rate_dph {} lies {:.0} robust sigmas off the fit of the others; {what}",
             w.line, w.index, w.rate_dph, w.sigmas
         )?;
     }

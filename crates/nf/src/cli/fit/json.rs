@@ -30,7 +30,7 @@ pub(super) struct FitJson {
     drift_dph_per_s2: f64,
     /// Whether the Earth rate is resolved; without it no azimuth can be given.
     earth_rate_resolved: bool,
-    /// Dwell means far off the fit (a glitch or a fill value), weighed like the others.
+    /// Dwell means far off the fit of the others (a glitch or a fill value), held out of it.
     far_off: Vec<FarOff>,
     /// Latitude of the recording, deg.
     latitude_deg: f64,
@@ -106,6 +106,8 @@ struct FarOff {
     rate_dph: f64,
     /// The residual in robust sigmas of the white fit's residuals.
     robust_sigmas: f64,
+    /// Left out of the fit; false when more than a tenth lie this far off (the data).
+    held_out: bool,
 }
 
 #[derive(Serialize)]
@@ -142,6 +144,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
                 line: w.line,
                 rate_dph: w.rate_dph,
                 robust_sigmas: w.sigmas,
+                held_out: w.held_out,
             })
             .collect(),
         latitude_deg: an.latitude_deg,

@@ -1,0 +1,119 @@
+//! Dwell means far off the fit of the others: a glitch or a fill value. One of them moves a
+//! least-squares azimuth by any amount while the residual-based sigma barely grows, so `nf
+//! fit` holds them out (and `nf diagnose` tests them as outliers).
+
+use crate::recording::Recording;
+
+/// Far enough that no Gaussian dwell of a run of a million gets there (p 1e-15 each).
+pub const WILD_SIGMAS: f64 = 8.0;
+
+/// Fits and searches at most: a large glitch drags the fit and hides a smaller one, which the
+/// fit without it shows.
+pub const PASSES: usize = 3;
+
+/// A dwell mean [`WILD_SIGMAS`] robust sigmas or more off the fit of the others.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wild {
+    pub line: usize,
+    pub index: u32,
+    pub rate_dph: f64,
+    /// Its residual in robust sigmas (1.4826 times the median absolute residual of the rows
+    /// fitted).
+    pub sigmas: f64,
+    /// Left out of the fit; `false` when so many lie this far off that they are the data.
+    pub held_out: bool,
+}
+
+/// The robust sigma of the residuals of the rows `kept`: 1.4826 times their median absolute
+/// value.
+fn robust_sigma(residuals: &[f64], kept: &[usize]) -> f64 {
+    let mut abs: Vec<f64> = kept.iter().map(|&i| residuals[i].abs()).collect();
+    if abs.is_empty() {
+        return 0.0;
+    }
+    abs.sort_by(f64::total_cmp);
+    1.4826 * abs[abs.len() / 2]
+}
+
+/// The rows, of all, whose residual is [`WILD_SIGMAS`] robust sigmas of the rows `kept` or
+/// more, in row order.
+pub fn find(residuals: &[f64], kept: &[usize]) -> Vec<usize> {
+    let sigma = robust_sigma(residuals, kept);
+    (0..residuals.len())
+        .filter(|&i| sigma > 0.0 && residuals[i].abs() >= WILD_SIGMAS * sigma)
+        .collect()
+}
+
+/// The rows to hold out of a run of `n`: those found, unless they are more than a tenth of
+/// the run. Then they are the data (a model the fit lacks, a tilt left uncorrected, heavy
+/// tails), not glitches, and none is held out.
+pub fn to_hold(found: &[usize], n: usize) -> Vec<usize> {
+    if found.len() * 10 > n {
+        Vec::new()
+    } else {
+        found.to_vec()
+    }
+}
+
+/// The rows found far off, and those held out, as the report names them.
+pub fn describe(rec: &Recording, residuals: &[f64], kept: &[usize], found: &[usize], out: &[usize]) -> Vec<Wild> {
+    let sigma = robust_sigma(residuals, kept);
+    let mut rows: Vec<usize> = found.iter().chain(out).copied().collect();
+    rows.sort_unstable();
+    rows.dedup();
+    rows.into_iter()
+        .map(|i| Wild {
+            line: rec.rows[i].line,
+            index: rec.rows[i].index,
+            rate_dph: rec.rows[i].rate_dph,
+            sigmas: residuals[i].abs() / sigma,
+            held_out: out.contains(&i),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Residuals of a standard normal's quantiles at 41 points: robust sigma close to 1.
+    fn gaussian_like() -> Vec<f64> {
+        (1..=41)
+            .map(|k| {
+                let p = k as f64 / 42.0;
+                // Logistic approximation of the normal quantile (scale 0.5513 matches the sd).
+                0.5513 * (p / (1.0 - p)).ln()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_residual_ten_robust_sigmas_off_is_found_and_six_is_not() {
+        let mut r = gaussian_like();
+        let all: Vec<usize> = (0..r.len()).collect();
+        let sigma = robust_sigma(&r, &all);
+        assert!((0.8..1.2).contains(&sigma), "{sigma}");
+        assert!(find(&r, &all).is_empty());
+        r[3] = 6.0 * sigma;
+        r[20] = -10.0 * sigma;
+        assert_eq!(find(&r, &all), vec![20]);
+    }
+
+    #[test]
+    fn the_sigma_comes_from_the_rows_fitted_and_every_row_is_judged() {
+        let mut r = gaussian_like();
+        r.push(1e6);
+        let kept: Vec<usize> = (0..r.len() - 1).collect();
+        assert_eq!(find(&r, &kept), vec![r.len() - 1]);
+        // All residuals zero (a noise-free run): nothing is far off.
+        assert!(find(&[0.0; 10], &[0, 1, 2]).is_empty());
+        assert!(find(&[1.0, 2.0], &[]).is_empty());
+    }
+
+    #[test]
+    fn more_than_a_tenth_far_off_are_the_data_and_none_is_held_out() {
+        assert_eq!(to_hold(&[3, 9], 20), vec![3, 9]);
+        assert_eq!(to_hold(&[1, 2, 3], 20), Vec::<usize>::new());
+        assert_eq!(to_hold(&[], 20), Vec::<usize>::new());
+    }
+}
