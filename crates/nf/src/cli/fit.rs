@@ -202,13 +202,13 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     }
     for w in &an.wild {
         let what = if w.held_out {
-            "held out of this fit (a glitch or a fill value; `nf diagnose` tests it as an outlier)"
+            "off the fit of the others: held out of this fit (a glitch or a fill value; `nf diagnose` tests it as an outlier)"
         } else {
-            "kept: more than a tenth of the dwells lie this far off, which is the data (a model the fit lacks, heavy tails), not glitches"
+            "off the fit: kept, as more than a tenth of the dwells lie this far off, which is the data (a model the fit lacks, heavy tails), not glitches"
         };
         writeln!(
             out,
-            "far off        line {} (index {}): rate_dph {} lies {:.0} robust sigmas off the fit of the others; {what}",
+            "far off        line {} (index {}): rate_dph {} lies {:.0} robust sigmas {what}",
             w.line, w.index, w.rate_dph, w.sigmas
         )?;
     }
