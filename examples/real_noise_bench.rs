@@ -1,7 +1,8 @@
 //! `nf fit` and `nf diagnose` through a real gyro's noise: recordings whose gyro errors are
 //! windows of a static log (the static-log format), scaled, plus the exact Earth rate at a
 //! random latitude and azimuth. No catalogue effect is in them: every effect named is a
-//! false alarm, and the reported sigmas are judged against the true azimuth.
+//! false alarm, and the reported sigmas are judged against the true azimuth (white least
+//! squares with its residual sigma beside them).
 //!
 //! `cargo run --release --example real_noise_bench -- LOG [RECORDINGS] [STRETCH ...]`
 //! (default 30 recordings per row, stretches 1 3 10 30). A recording has 36, 48 or 72
@@ -30,6 +31,8 @@ const SPACING_S: f64 = 1.35;
 
 #[derive(Default)]
 struct Row {
+    /// White least squares with its residual sigma, for comparison.
+    ols_z2: f64,
     fit_z2: f64,
     final_z2: f64,
     fit_beyond: u32,
@@ -96,8 +99,10 @@ fn run_row(log: &StaticLog, rate_hz: f64, stretch: f64, pairs: bool, count: u32)
         ) else {
             continue;
         };
+        let zo = err(fit.fit.psi_deg) / (fit.fit.sigma_psi_deg * 3600.0);
         let zf = err(fit.gls.psi_deg) / (fit.gls.sigma_psi_deg * 3600.0);
         let zd = err(d.final_.azimuth_deg) / d.final_.sigma_arcsec;
+        row.ols_z2 += zo * zo;
         row.fit_z2 += zf * zf;
         row.final_z2 += zd * zd;
         row.fit_beyond += u32::from(zf.abs() > 3.0);
@@ -127,16 +132,17 @@ fn main() {
         _ => vec![1.0, 3.0, 10.0, 30.0],
     };
     println!("{path}: {} samples at {rate_hz:.3} Hz", log.rate_dph.len());
-    println!("order    stretch  runs  RMS z fit  RMS z final  >3 sd fit  >3 sd final  false alarms  named");
+    println!("order    stretch  runs  RMS z white LS  RMS z fit  RMS z final  >3 sd fit  >3 sd final  false alarms  named");
     for pairs in [false, true] {
         for &stretch in &stretches {
             let r = run_row(&log, rate_hz, stretch, pairs, count);
             let k = f64::from(r.runs.max(1));
             let named: Vec<String> = r.named.iter().map(|(k, v)| format!("{k} x{v}")).collect();
             println!(
-                "{:<8} {stretch:>7} {:>5} {:>10.2} {:>12.2} {:>10} {:>12} {:>13} {}",
+                "{:<8} {stretch:>7} {:>5} {:>15.2} {:>10.2} {:>12.2} {:>10} {:>12} {:>13} {}",
                 if pairs { "pairs" } else { "sweep" },
                 r.runs,
+                (r.ols_z2 / k).sqrt(),
                 (r.fit_z2 / k).sqrt(),
                 (r.final_z2 / k).sqrt(),
                 r.fit_beyond,
