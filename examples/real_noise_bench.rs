@@ -132,7 +132,9 @@ fn main() {
         _ => vec![1.0, 3.0, 10.0, 30.0],
     };
     println!("{path}: {} samples at {rate_hz:.3} Hz", log.rate_dph.len());
-    println!("order    stretch  runs  RMS z white LS  RMS z fit  RMS z final  >3 sd fit  >3 sd final  false alarms  named");
+    println!(
+        "order    stretch  runs  RMS z white LS  RMS z fit  RMS z final  >3 sd fit  >3 sd final  false alarms  named"
+    );
     for pairs in [false, true] {
         for &stretch in &stretches {
             let r = run_row(&log, rate_hz, stretch, pairs, count);

@@ -185,7 +185,7 @@ fn plain_holding_out(rec: &Recording, method: TiltMethod, cfg: FitConfig<f64>) -
             .collect();
         let residuals: Vec<f64> = points.iter().map(|p| p[4]).collect();
         let found = far_off::find(&residuals, &kept);
-        let hold = far_off::to_hold(&found, rec.rows.len());
+        let hold = far_off::to_hold(&found, rec.rows.len(), cfg.terms().unwrap_or(usize::MAX));
         pass += 1;
         if hold == out || pass == far_off::PASSES {
             let wild = far_off::describe(rec, &residuals, &kept, &found, &out);

@@ -44,11 +44,11 @@ pub fn find(residuals: &[f64], kept: &[usize]) -> Vec<usize> {
         .collect()
 }
 
-/// The rows to hold out of a run of `n`: those found, unless they are more than a tenth of
-/// the run. Then they are the data (a model the fit lacks, a tilt left uncorrected, heavy
-/// tails), not glitches, and none is held out.
-pub fn to_hold(found: &[usize], n: usize) -> Vec<usize> {
-    if found.len() * 10 > n {
+/// The rows to hold out of a run of `n` fitted with `terms` unknowns: those found, unless they
+/// are more than a tenth of the run (then they are the data: a model the fit lacks, a tilt
+/// left uncorrected, heavy tails; not glitches) or the rest would leave no degree of freedom.
+pub fn to_hold(found: &[usize], n: usize, terms: usize) -> Vec<usize> {
+    if found.len() * 10 > n || n - found.len() <= terms {
         Vec::new()
     } else {
         found.to_vec()
@@ -112,8 +112,14 @@ mod tests {
 
     #[test]
     fn more_than_a_tenth_far_off_are_the_data_and_none_is_held_out() {
-        assert_eq!(to_hold(&[3, 9], 20), vec![3, 9]);
-        assert_eq!(to_hold(&[1, 2, 3], 20), Vec::<usize>::new());
-        assert_eq!(to_hold(&[], 20), Vec::<usize>::new());
+        assert_eq!(to_hold(&[3, 9], 20, 3), vec![3, 9]);
+        assert_eq!(to_hold(&[1, 2, 3], 20, 3), Vec::<usize>::new());
+        assert_eq!(to_hold(&[], 20, 3), Vec::<usize>::new());
+    }
+
+    #[test]
+    fn a_dwell_is_not_held_out_when_the_rest_would_leave_no_degree_of_freedom() {
+        assert_eq!(to_hold(&[4], 10, 8), vec![4]);
+        assert_eq!(to_hold(&[4], 10, 9), Vec::<usize>::new());
     }
 }

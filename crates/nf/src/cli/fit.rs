@@ -204,7 +204,7 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         let what = if w.held_out {
             "off the fit of the others: held out of this fit (a glitch or a fill value; `nf diagnose` tests it as an outlier)"
         } else {
-            "off the fit: kept, as more than a tenth of the dwells lie this far off, which is the data (a model the fit lacks, heavy tails), not glitches"
+            "off the fit: kept, as more than a tenth of the dwells lie this far off, which is the data (a model the fit lacks, heavy tails), not glitches, or the rest would leave the fit no degree of freedom"
         };
         writeln!(
             out,

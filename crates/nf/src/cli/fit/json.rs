@@ -106,7 +106,8 @@ struct FarOff {
     rate_dph: f64,
     /// The residual in robust sigmas of the white fit's residuals.
     robust_sigmas: f64,
-    /// Left out of the fit; false when more than a tenth lie this far off (the data).
+    /// Left out of the fit; false when more than a tenth lie this far off (the data) or the
+    /// rest would leave no degree of freedom.
     held_out: bool,
 }
 
