@@ -205,6 +205,13 @@ fn fit_of_a_bad_recording_names_the_line() {
             "{err}"
         );
     }
+    // Three angles but three positions: no degree of freedom left for the noise.
+    std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,1\n2,3,180,1\n").unwrap();
+    for (cmd, least) in [("fit", "needs at least 4"), ("diagnose", "needs at least 8")] {
+        let (code, out, err) = nf(&[cmd, &bad]);
+        assert_eq!((code, out.as_str()), (2, ""), "{cmd}");
+        assert!(err.contains("3 positions") && err.contains(least), "{err}");
+    }
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,1\n2,3,180,1\n3,4,270,1\n").unwrap();
     let (code, _, err) = nf(&["fit", &bad, "--tilt", "exact"]);
     assert_eq!(code, 1);

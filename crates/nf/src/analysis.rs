@@ -66,6 +66,17 @@ impl Default for Options {
     }
 }
 
+impl Options {
+    /// The white fit's configuration: the drift and harmonics asked for.
+    pub fn fit_config(&self) -> FitConfig<f64> {
+        FitConfig {
+            drift: self.drift,
+            harmonics: self.harmonics,
+            ..FitConfig::default()
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct Analysis {
     pub latitude_deg: f64,
@@ -94,11 +105,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
     rec.require_turning()?;
     let lat = rec.latitude_deg;
     let method = opt.tilt.unwrap_or_else(|| tilt::auto_method(rec));
-    let cfg = FitConfig {
-        drift: opt.drift,
-        harmonics: opt.harmonics,
-        ..FitConfig::default()
-    };
+    let cfg = opt.fit_config();
     let Plain {
         tilt,
         fit,

@@ -211,6 +211,15 @@ impl Recording {
         })
     }
 
+    /// At least `min` positions, which `what` needs: a clear reason rather than a fit without
+    /// degrees of freedom.
+    pub fn require_positions(&self, min: usize, what: &str) -> Result<(), String> {
+        if self.rows.len() >= min {
+            return Ok(());
+        }
+        Err(format!("{} positions: {what} needs at least {min}", self.rows.len()))
+    }
+
     /// Three distinct encoder angles at least, as `A cos + B sin + C` needs: a shaft that did
     /// not turn (a stalled motor) gives a clear reason here rather than a singular fit.
     pub fn require_turning(&self) -> Result<(), String> {

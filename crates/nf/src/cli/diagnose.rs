@@ -83,8 +83,10 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
             NoiseChoice::Estimate
         },
     };
-    // A shaft that did not turn is bad input, like a malformed line.
-    rec.require_turning().map_err(|e| Fail(format!("{path}: {e}"), 2))?;
+    // Too few positions, or a shaft that did not turn, is bad input, like a malformed line.
+    rec.require_turning()
+        .and_then(|_| rec.require_positions(crate::diagnose::MIN_POSITIONS, "diagnosing"))
+        .map_err(|e| Fail(format!("{path}: {e}"), 2))?;
     // Past this many positions a diagnosis takes more than a second, and a spinner says so
     // (on a terminal only).
     let spinner = (rec.rows.len() > SLOW_POSITIONS).then(|| {

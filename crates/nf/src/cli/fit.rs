@@ -95,8 +95,14 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         replicates: usize::from(a.replicates),
         ..Options::default()
     };
-    // A shaft that did not turn is bad input, like a malformed line.
+    // Too few positions, or a shaft that did not turn, is bad input, like a malformed line.
     rec.require_turning()
+        .and_then(|_| {
+            rec.require_positions(
+                opt.fit_config().terms().unwrap_or(3) + 1,
+                "this fit (its unknowns and one degree of freedom for the noise)",
+            )
+        })
         .map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;
     let an = analyse(&rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
     if let Some(p) = &a.plot {

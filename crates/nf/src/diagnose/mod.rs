@@ -115,13 +115,14 @@ pub struct Timing {
     pub total_s: f64,
 }
 
+/// Positions a diagnosis needs: Eq. 7's three columns, an effect's and the noise's.
+pub const MIN_POSITIONS: usize = 8;
+
 /// Diagnoses a recording.
 pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let n = rec.rows.len();
-    if n < 8 {
-        return Err(format!("{n} positions: diagnosing needs at least 8"));
-    }
     rec.require_turning()?;
+    rec.require_positions(MIN_POSITIONS, "diagnosing")?;
     let started = std::time::Instant::now();
     let d = Data::new(rec);
     let white = Whitener::identity();
