@@ -20,7 +20,8 @@ pub struct Wild {
     /// Its residual in robust sigmas (1.4826 times the median absolute residual of the rows
     /// fitted).
     pub sigmas: f64,
-    /// Left out of the fit; `false` when so many lie this far off that they are the data.
+    /// Left out of the fit; `false` when so many lie this far off that they are the data, or
+    /// the rest would leave no degree of freedom.
     pub held_out: bool,
 }
 
@@ -36,11 +37,14 @@ fn robust_sigma(residuals: &[f64], kept: &[usize]) -> f64 {
 }
 
 /// The rows, of all, whose residual is [`WILD_SIGMAS`] robust sigmas of the rows `kept` or
-/// more, in row order.
+/// more, in row order. Where the rows kept fit exactly (sigma 0), any other residual is.
 pub fn find(residuals: &[f64], kept: &[usize]) -> Vec<usize> {
+    if kept.is_empty() {
+        return Vec::new();
+    }
     let sigma = robust_sigma(residuals, kept);
     (0..residuals.len())
-        .filter(|&i| sigma > 0.0 && residuals[i].abs() >= WILD_SIGMAS * sigma)
+        .filter(|&i| residuals[i] != 0.0 && residuals[i].abs() >= WILD_SIGMAS * sigma)
         .collect()
 }
 
@@ -105,8 +109,10 @@ mod tests {
         r.push(1e6);
         let kept: Vec<usize> = (0..r.len() - 1).collect();
         assert_eq!(find(&r, &kept), vec![r.len() - 1]);
-        // All residuals zero (a noise-free run): nothing is far off.
+        // All residuals zero (a noise-free run): nothing is far off; a glitch held out of
+        // one stays far off the exact fit of the others.
         assert!(find(&[0.0; 10], &[0, 1, 2]).is_empty());
+        assert_eq!(find(&[0.0, 0.0, 0.0, 5.0], &[0, 1, 2]), vec![3]);
         assert!(find(&[1.0, 2.0], &[]).is_empty());
     }
 
