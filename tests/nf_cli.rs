@@ -114,6 +114,37 @@ fn a_huge_glitch_moves_neither_the_tilt_correction_nor_the_azimuth_and_does_not_
 }
 
 #[test]
+fn a_glitch_is_held_out_in_the_cli_output_json_and_plot() {
+    let rec = tmp("glitch.csv");
+    let (code, _, err) = nf(&["simulate", "--n", "36", "--seed", "9", "-o", &rec]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&rec).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let header = lines.iter().position(|l| l.starts_with("index")).unwrap();
+    let cols: Vec<&str> = lines[header].split(',').collect();
+    let rate = cols.iter().position(|c| *c == "rate_dph").unwrap();
+    let mut cells: Vec<String> = lines[header + 12].split(',').map(String::from).collect();
+    cells[rate] = "1e6".into();
+    lines[header + 12] = cells.join(",");
+    std::fs::write(&rec, lines.join("\n") + "\n").unwrap();
+    let (code, out, err) = nf(&["fit", &rec, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["n"], 35);
+    assert_eq!(j["far_off"][0]["line"], header + 13);
+    assert_eq!(j["far_off"][0]["held_out"], true);
+    assert_eq!(j["earth_rate_resolved"], true);
+    let svg = tmp("glitch.svg");
+    let (code, out, _) = nf(&["fit", &rec, "--plot", &svg]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains(&format!("far off        line {}", header + 13)) && out.contains("held out"),
+        "{out}"
+    );
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("held out, not drawn"));
+}
+
+#[test]
 fn many_dwells_far_off_are_the_data_and_are_kept() {
     // A second harmonic of 500 deg/h seen on four dwells a quarter turn apart: the first
     // harmonic and the bias do not take it, and four of 36 are more than a tenth.

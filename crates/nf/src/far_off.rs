@@ -14,6 +14,8 @@ pub const PASSES: usize = 3;
 /// A dwell mean [`WILD_SIGMAS`] robust sigmas or more off the fit of the others.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Wild {
+    /// Its place among the recording's rows.
+    pub row: usize,
     pub line: usize,
     pub index: u32,
     pub rate_dph: f64,
@@ -67,6 +69,7 @@ pub fn describe(rec: &Recording, residuals: &[f64], kept: &[usize], found: &[usi
     rows.dedup();
     rows.into_iter()
         .map(|i| Wild {
+            row: i,
             line: rec.rows[i].line,
             index: rec.rows[i].index,
             rate_dph: rec.rows[i].rate_dph,

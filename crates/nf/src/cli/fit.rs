@@ -262,6 +262,19 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
 }
 
 fn fit_panels(an: &Analysis) -> Vec<Panel> {
+    // A held-out glitch would set the axes' range and flatten every other dwell.
+    let held: Vec<usize> = an.wild.iter().filter(|w| w.held_out).map(|w| w.row).collect();
+    let drawn = || {
+        an.points
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !held.contains(i))
+            .map(|(_, p)| p)
+    };
+    let not_drawn = match held.len() {
+        0 => String::new(),
+        k => format!(" ({k} far-off dwell(s) held out, not drawn)"),
+    };
     let curve: Vec<(f64, f64)> = (0..=360)
         .map(|g| {
             let g = g as f64;
@@ -270,13 +283,13 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
         .collect();
     vec![
         Panel {
-            title: format!("gyro output, psi = {:.4} deg", an.fit.psi_deg),
+            title: format!("gyro output, psi = {:.4} deg{not_drawn}", an.fit.psi_deg),
             x_label: "encoder angle gamma (deg)".into(),
             y_label: "rate (deg/h)".into(),
             series: vec![
                 Series {
                     name: "measured".into(),
-                    points: an.points.iter().map(|p| (p[0], p[2])).collect(),
+                    points: drawn().map(|p| (p[0], p[2])).collect(),
                     style: Style::Points,
                 },
                 Series {
@@ -289,12 +302,12 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
             log_y: false,
         },
         Panel {
-            title: format!("residuals, RSS = {:.3e} (deg/h)^2", an.fit.rss),
+            title: format!("residuals, RSS = {:.3e} (deg/h)^2{not_drawn}", an.fit.rss),
             x_label: "encoder angle gamma (deg)".into(),
             y_label: "residual (deg/h)".into(),
             series: vec![Series {
                 name: "residual".into(),
-                points: an.points.iter().map(|p| (p[0], p[4])).collect(),
+                points: drawn().map(|p| (p[0], p[4])).collect(),
                 style: Style::Points,
             }],
             log_x: false,
