@@ -118,7 +118,8 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         rows: out_of(&rec.rows, &out),
         ..rec.clone()
     };
-    let y: Vec<f64> = out_of(&rec.rows, &out)
+    let y: Vec<f64> = used
+        .rows
         .iter()
         .zip(out_of(&corrections, &out))
         .map(|(r, c)| r.rate_dph - c)

@@ -3,6 +3,7 @@
 //! fit` holds them out (and `nf diagnose` tests them as outliers).
 
 use crate::recording::Recording;
+use crate::stats;
 
 /// Far enough that no Gaussian dwell of a run of a million gets there (p 1e-15 each).
 pub const WILD_SIGMAS: f64 = 8.0;
@@ -27,15 +28,9 @@ pub struct Wild {
     pub held_out: bool,
 }
 
-/// The robust sigma of the residuals of the rows `kept`: 1.4826 times their median absolute
-/// value.
+/// The robust sigma of the residuals of the rows `kept`.
 fn robust_sigma(residuals: &[f64], kept: &[usize]) -> f64 {
-    let mut abs: Vec<f64> = kept.iter().map(|&i| residuals[i].abs()).collect();
-    if abs.is_empty() {
-        return 0.0;
-    }
-    abs.sort_by(f64::total_cmp);
-    1.4826 * abs[abs.len() / 2]
+    stats::robust_sigma(kept.iter().map(|&i| residuals[i]))
 }
 
 /// The rows, of all, whose residual is [`WILD_SIGMAS`] robust sigmas of the rows `kept` or

@@ -41,9 +41,7 @@ impl Spacing {
         let mut steps: Vec<f64> = t_s.windows(2).map(|w| w[1] - w[0]).collect();
         steps.sort_by(f64::total_cmp);
         let median = steps[steps.len() / 2];
-        let mut off: Vec<f64> = steps.iter().map(|s| (s - median).abs()).collect();
-        off.sort_by(f64::total_cmp);
-        let jitter = 1.4826 * off[off.len() / 2];
+        let jitter = crate::stats::robust_sigma(steps.iter().map(|s| s - median));
         let gap = median + ((GAP_FACTOR - 1.0) * median).max(JITTER_SIGMAS * jitter);
         let (mut segments, mut gaps, mut start) = (Vec::new(), Vec::new(), 0);
         for i in 1..t_s.len() {

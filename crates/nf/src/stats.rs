@@ -53,9 +53,27 @@ pub fn chi2_quantile(p: f64, k: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
+/// The sigma of normal deviations estimated robustly: 1.4826 times the median of their
+/// absolute values (the upper median for an even count); 0 for none.
+pub fn robust_sigma(deviations: impl IntoIterator<Item = f64>) -> f64 {
+    let mut abs: Vec<f64> = deviations.into_iter().map(f64::abs).collect();
+    if abs.is_empty() {
+        return 0.0;
+    }
+    abs.sort_by(f64::total_cmp);
+    1.4826 * abs[abs.len() / 2]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn robust_sigma_is_the_scaled_median_absolute_value() {
+        assert_eq!(robust_sigma([3.0, -1.0, 2.0]), 1.4826 * 2.0);
+        assert_eq!(robust_sigma([-4.0, 1.0, 1e9, -2.0]), 1.4826 * 4.0);
+        assert_eq!(robust_sigma([]), 0.0);
+    }
 
     #[test]
     fn reference_values() {

@@ -227,9 +227,7 @@ pub(super) fn with_bursts_held_out(d: &Data, cols: &[Vec<f64>], y: &[f64]) -> Ve
     let mut smooth = cols.to_vec();
     smooth.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
     let Some(ls) = linfit::fit(&smooth, y) else { return out };
-    let mut abs: Vec<f64> = ls.resid.iter().map(|r| r.abs()).collect();
-    abs.sort_by(f64::total_cmp);
-    let sigma = 1.4826 * abs[abs.len() / 2];
+    let sigma = crate::stats::robust_sigma(ls.resid.iter().copied());
     let bursts = (0..d.n()).filter(|&i| ls.resid[i].abs() > 5.0 * sigma);
     out.extend(bursts.take(d.n() / 10).map(|i| d.indicator(i)));
     out
