@@ -196,7 +196,11 @@ fn a_temperature_cycle_is_named_as_a_thermal_drift_rather_than_a_drift() {
     for seed in 0..runs {
         let mut twin = quiet_twin(100 + seed);
         let s = twin.noise.white_mean_sd_dph(1.0);
-        twin.temp_wave = (2.0, 67.0 / (1.5 + 0.125 * seed as f64));
+        twin.temp_swing = nf_twin::TempSwing {
+            amplitude_c: 2.0,
+            period_s: 67.0 / (1.5 + 0.125 * seed as f64),
+            phase_deg: 0.0,
+        };
         twin.bias_temp_dph_per_c = 2.5 * s / 2.0;
         let d = diagnose(&recording(&twin), &Options::default()).unwrap();
         let named = d.findings.iter().find(|f| !f.effect.is_noise()).map(|f| f.effect);

@@ -192,3 +192,37 @@ fn the_recording_s_plan_goes_into_the_fixed_file() {
     );
     assert!(s.fixed.after.mismatches() <= 1);
 }
+
+#[test]
+fn a_heater_swing_the_simulation_lacks_goes_into_the_fixed_file() {
+    // The recording's thermometer cycles and the bias follows it; the file has neither.
+    let mut with = base();
+    with.temperature.swing_phase_deg = 40.0;
+    with.temperature.bias_dph_per_c = 0.02;
+    let rec = recording(&with);
+    let mut without = base();
+    without.temperature.swing_c = 0.0;
+    let s = against(&rec, &without);
+    let t = &s.fixed.file.temperature;
+    assert!((t.swing_c / 2.0 - 1.0).abs() < 0.05, "{t:?}");
+    assert!((t.swing_period_s / 50.0 - 1.0).abs() < 0.02, "{t:?}");
+    assert!((t.bias_dph_per_c / 0.02 - 1.0).abs() < 0.25, "{t:?}");
+    // `nf simulate --config` of the fixed file: its thermometer reads the recording's.
+    let again = recording(&s.fixed.file);
+    let sq: Vec<f64> = rec
+        .rows
+        .iter()
+        .zip(&again.rows)
+        .map(|(a, b)| (a.temp_c.unwrap() - b.temp_c.unwrap()).powi(2))
+        .collect();
+    let rms = (sq.iter().sum::<f64>() / sq.len() as f64).sqrt();
+    assert!(
+        rms < 0.05,
+        "the fixed file's temperature misses the recording's by {rms} C RMS"
+    );
+    assert!(
+        s.fixed.changes.iter().any(|c| c.contains("a swing of")),
+        "{:?}",
+        s.fixed.changes
+    );
+}

@@ -10,12 +10,14 @@ pub mod noise;
 mod quartered;
 mod static_log;
 mod step_timer;
+mod temp_swing;
 mod world;
 
 pub use devices::{TwinInstrument, instrument};
 pub use nf_model::rng::Rng;
 pub use quartered::QuarteredRecording;
 pub use static_log::StaticLog;
+pub use temp_swing::TempSwing;
 pub use world::{Faults, InclinometerFault, TwinConfig, World, virtual_now_us};
 
 use nf_instrument::run::{RunConfig, RunReport, Sink, run};

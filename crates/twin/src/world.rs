@@ -1,6 +1,7 @@
 //! The simulated instrument: the physical state and what each sensor sees.
 
 use crate::noise::{GyroNoise, Quantiser};
+use crate::temp_swing::TempSwing;
 use nf_instrument::adc::{CODE_MAX, CODE_MIN};
 use nf_instrument::stepper;
 use nf_model::dwell::Calibration;
@@ -69,8 +70,8 @@ pub struct TwinConfig {
     pub temp0_c: f64,
     /// Temperature ramp, C per s.
     pub temp_ramp_c_per_s: f64,
-    /// Temperature swing: amplitude (C) and period (s), as from a cycling heater.
-    pub temp_wave: (f64, f64),
+    /// Temperature swing, as from a cycling heater.
+    pub temp_swing: TempSwing,
     /// A measured temperature history `(s, C)`, in time order and linearly interpolated: when
     /// given it replaces the ramp and the swing (to replay a recording's thermometer).
     pub temp_trace: Vec<(f64, f64)>,
@@ -121,7 +122,7 @@ impl Default for TwinConfig {
             bias_temp_dph_per_c: 0.0,
             temp0_c: 40.0,
             temp_ramp_c_per_s: 0.0,
-            temp_wave: (0.0, 600.0),
+            temp_swing: TempSwing::NONE,
             temp_trace: Vec::new(),
             settle_dph: 0.02,
             settle_tau_s: 0.05,
@@ -242,8 +243,7 @@ impl World {
         if let Some(c) = interpolate(&self.cfg.temp_trace, t) {
             return c;
         }
-        let (amp, period) = self.cfg.temp_wave;
-        self.cfg.temp0_c + self.cfg.temp_ramp_c_per_s * t + amp * (std::f64::consts::TAU * t / period).sin()
+        self.cfg.temp0_c + self.cfg.temp_ramp_c_per_s * t + self.cfg.temp_swing.at(t)
     }
 
     /// The gyro rate (deg/h) the rebalance loop outputs now, before noise.
@@ -327,7 +327,11 @@ mod tests {
     fn a_temperature_trace_is_interpolated_and_held_beyond_its_ends() {
         let cfg = TwinConfig {
             temp_trace: vec![(10.0, 20.0), (20.0, 30.0), (30.0, 30.0)],
-            temp_wave: (5.0, 60.0),
+            temp_swing: TempSwing {
+                amplitude_c: 5.0,
+                period_s: 60.0,
+                phase_deg: 0.0,
+            },
             ..TwinConfig::default()
         };
         let mut w = World::new(cfg);

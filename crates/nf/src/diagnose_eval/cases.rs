@@ -6,7 +6,7 @@ use crate::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
-use nf_twin::{Recorder, Rng, TwinConfig, simulate};
+use nf_twin::{Recorder, Rng, TempSwing, TwinConfig, simulate};
 
 /// Dwell of every run, s. The suite's effect sizes are relative to its mean's white noise.
 pub const DWELL_S: f64 = 1.0;
@@ -80,7 +80,11 @@ pub fn random_case(rng: &mut Rng, site: &Site, order: Order) -> Case {
     // the bias only where a thermal drift is concealed: the thermal test's false alarms.
     let duration = run_duration_s(&run);
     twin.temp_ramp_c_per_s = rng.uniform(-0.5, 0.5) / duration;
-    twin.temp_wave = (log_uniform(rng, 0.05, 1.0), duration / rng.uniform(0.5, 3.0));
+    twin.temp_swing = TempSwing {
+        amplitude_c: log_uniform(rng, 0.05, 1.0),
+        period_s: duration / rng.uniform(0.5, 3.0),
+        phase_deg: 0.0,
+    };
     Case {
         twin,
         run,

@@ -4,7 +4,7 @@
 
 use super::cases::{Case, DWELL_S, DwellShift};
 use crate::diagnose::Kind;
-use nf_twin::Rng;
+use nf_twin::{Rng, TempSwing};
 
 /// Magnitude levels, named; [`conceal`] takes an index into them.
 pub const LEVELS: [&str; 3] = ["barely", "moderate", "clear"];
@@ -27,7 +27,11 @@ pub fn conceal(c: &mut Case, effect: Kind, level: usize, rng: &mut Rng) {
             c.twin.bias_jump = Some((rng.uniform(0.3, 0.7) * duration, pick([1.5, 3.0, 8.0]) * s));
         }
         Kind::ThermalDrift => {
-            c.twin.temp_wave = (2.0, duration / rng.uniform(1.5, 3.0));
+            c.twin.temp_swing = TempSwing {
+                amplitude_c: 2.0,
+                period_s: duration / rng.uniform(1.5, 3.0),
+                phase_deg: 0.0,
+            };
             c.twin.bias_temp_dph_per_c = pick([1.0, 2.5, 8.0]) * s / 2.0;
         }
         Kind::ShaftTilt => {

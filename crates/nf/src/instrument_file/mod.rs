@@ -195,7 +195,7 @@ impl InstrumentFile {
             bias_temp_dph_per_c: self.temperature.bias_dph_per_c,
             temp0_c: self.temperature.start_c,
             temp_ramp_c_per_s: self.temperature.ramp_c_per_s,
-            temp_wave: (self.temperature.swing_c, self.temperature.swing_period_s),
+            temp_swing: self.temperature.swing(),
             settle_dph: self.settling.size_dph,
             settle_tau_s: self.settling.tau_s,
             encoder_bits: self.encoder.bits,

@@ -4,6 +4,7 @@
 use super::bounds as b;
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
+use nf_twin::TempSwing;
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -130,14 +131,33 @@ pub struct Temperature {
     pub start_c: f64,
     #[serde(deserialize_with = "b::temp_ramp")]
     pub ramp_c_per_s: f64,
-    /// A heater's cycle: amplitude and period.
+    /// A heater's cycle: amplitude, period and phase.
     #[serde(deserialize_with = "b::temp_swing")]
     pub swing_c: f64,
     #[serde(deserialize_with = "b::period")]
     pub swing_period_s: f64,
+    /// Where the cycle starts: `swing_c sin(2 pi t / swing_period_s + swing_phase_deg)`.
+    #[serde(deserialize_with = "b::angle")]
+    pub swing_phase_deg: f64,
     /// Bias change per degree away from `start_c`.
     #[serde(deserialize_with = "b::temp_coef")]
     pub bias_dph_per_c: f64,
+}
+
+impl Temperature {
+    /// The heater's swing, as the twin takes it.
+    pub fn swing(&self) -> TempSwing {
+        TempSwing {
+            amplitude_c: self.swing_c,
+            period_s: self.swing_period_s,
+            phase_deg: self.swing_phase_deg,
+        }
+    }
+
+    /// The temperature at `t_s` on the file's clock, C.
+    pub fn at(&self, t_s: f64) -> f64 {
+        self.start_c + self.ramp_c_per_s * t_s + self.swing().at(t_s)
+    }
 }
 
 impl Default for Temperature {
@@ -147,6 +167,7 @@ impl Default for Temperature {
             ramp_c_per_s: 0.0,
             swing_c: 0.0,
             swing_period_s: 600.0,
+            swing_phase_deg: 0.0,
             bias_dph_per_c: 0.0,
         }
     }

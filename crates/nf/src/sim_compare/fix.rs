@@ -7,6 +7,7 @@ use super::compare::Comparison;
 use super::physics::{Physics, Verdict, middle_s, noise_of, param};
 use super::plan;
 use super::profile::Quantity;
+use super::thermometer;
 use crate::diagnose::{Diagnosis, Kind};
 use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise};
 use crate::recording::Recording;
@@ -143,7 +144,7 @@ fn is_noise(q: Quantity) -> bool {
 /// the recording's ramp.
 const TEMP_TOLERANCE_C: f64 = 0.1;
 
-/// The recording's temperature as a ramp, where the file's misses it.
+/// The recording's temperature as a ramp and a swing, where the file's misses it.
 fn temperature(f: &mut InstrumentFile, rec: &Recording, origin_s: f64) -> Option<String> {
     let temp: Vec<(f64, f64)> = rec
         .rows
@@ -151,26 +152,32 @@ fn temperature(f: &mut InstrumentFile, rec: &Recording, origin_s: f64) -> Option
         .filter_map(|r| Some((r.t_s + origin_s, r.temp_c?)))
         .collect();
     let n = temp.len() as f64;
-    let t = &f.temperature;
-    let model =
-        |s: f64| t.start_c + t.ramp_c_per_s * s + t.swing_c * (std::f64::consts::TAU * s / t.swing_period_s).sin();
-    let miss = (temp.iter().map(|p| (p.1 - model(p.0)).powi(2)).sum::<f64>() / n).sqrt();
+    let miss = (temp.iter().map(|p| (p.1 - f.temperature.at(p.0)).powi(2)).sum::<f64>() / n).sqrt();
     if temp.len() < 2 || miss <= TEMP_TOLERANCE_C {
         return None;
     }
-    let (mt, mc) = temp.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
-    let sxx: f64 = temp.iter().map(|p| (p.0 - mt).powi(2)).sum();
-    let slope = if sxx > 0.0 {
-        temp.iter().map(|p| (p.0 - mt) * (p.1 - mc)).sum::<f64>() / sxx
-    } else {
-        0.0
+    let fit = thermometer::fit(&temp)?;
+    let t = &mut f.temperature;
+    t.ramp_c_per_s = fit.ramp_c_per_s.clamp(-1.0, 1.0);
+    t.start_c = fit.start_c.clamp(-60.0, 125.0);
+    let swing = match fit.swing {
+        Some(s) => {
+            t.swing_c = s.amplitude_c.min(100.0);
+            t.swing_period_s = s.period_s.clamp(1.0, 1e7);
+            t.swing_phase_deg = s.phase_deg;
+            format!(
+                " and a swing of {:.3} C, period {:.1} s, phase {:.0} deg",
+                t.swing_c, t.swing_period_s, t.swing_phase_deg
+            )
+        }
+        None => {
+            t.swing_c = 0.0;
+            " (no swing)".into()
+        }
     };
-    f.temperature.ramp_c_per_s = slope.clamp(-1.0, 1.0);
-    f.temperature.start_c = (mc - slope * mt).clamp(-60.0, 125.0);
-    f.temperature.swing_c = 0.0;
     Some(format!(
-        "temperature: the file missed the recording's by {miss:.3} C RMS; now {:.3} C at 0 s and {slope:+.6} C/s (a swing is not fitted; the comparison follows the recording's thermometer)",
-        f.temperature.start_c
+        "temperature: the file missed the recording's by {miss:.3} C RMS; now {:.3} C at 0 s, {:+.6} C/s{swing}, {:.3} C RMS from the recording's",
+        t.start_c, t.ramp_c_per_s, fit.rms_c
     ))
 }
 

@@ -13,6 +13,7 @@ mod profile;
 mod replay;
 #[cfg(test)]
 mod tests;
+mod thermometer;
 
 pub use compare::{Comparison, Line};
 pub use physics::{Physics, Verdict, settling_offset};
