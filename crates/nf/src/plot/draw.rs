@@ -155,9 +155,12 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> Result<()
     if let Some(widest) = widest.filter(|n| !n.is_empty()) {
         let room = pw.saturating_sub(60);
         let size = fit_size(widest, room, TICK_SIZE, 9.0, |s, z| width(&rest, s, z));
+        // plotters' legend: a 20 px marker and gaps beside the names, a row per entry.
+        let box_w = f64::from(width(&rest, widest, size) + 40) / f64::from(pw.max(1));
+        let box_h = (names.len() as f64 * (size * 1.25) + 12.0) / f64::from(ph.max(1));
         chart
             .configure_series_labels()
-            .position(legend_corner(p, &x, &y))
+            .position(legend_corner(p, &x, &y, box_w, box_h))
             .background_style(WHITE.mix(0.85))
             .border_style(GRID)
             .label_font((FONT, size))
@@ -167,28 +170,39 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> Result<()
     Ok(())
 }
 
-/// The corner of the plot with the fewest points in it, for the legend: upper left where there
-/// is a tie.
-fn legend_corner(p: &Panel, x: &Axis, y: &Axis) -> SeriesLabelPosition {
+/// The corner of the plot where the legend, a box of `box_w` by `box_h` (fractions of the
+/// plot), covers least: measured points and bars weigh as much as a whole line (a line's
+/// points are dense, and covering data hides more than covering a model). Upper left where
+/// there is a tie.
+fn legend_corner(p: &Panel, x: &Axis, y: &Axis, box_w: f64, box_h: f64) -> SeriesLabelPosition {
     use SeriesLabelPosition::*;
-    let mut count = [0usize; 4];
-    let shown = p
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter())
-        .filter(|q| x.shows(q.0) && y.shows(q.1));
-    for &(a, b) in shown {
-        let (fx, fy) = (x.map(&a, (0, 100)), y.map(&b, (0, 100)));
-        let corner = match (fx, fy) {
-            (..40, 55..) => 0,
-            (60.., 55..) => 1,
-            (..40, ..45) => 2,
-            (60.., ..45) => 3,
-            _ => continue,
+    let (bw, bh) = ((100.0 * box_w).ceil() as i32, (100.0 * box_h).ceil() as i32);
+    let mut cover = [0.0f64; 4];
+    for s in &p.series {
+        let shown: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .copied()
+            .filter(|q| x.shows(q.0) && y.shows(q.1))
+            .collect();
+        let weight = match s.style {
+            Style::Line => 1.0 / shown.len().max(1) as f64,
+            Style::Points | Style::Bars => 1.0,
         };
-        count[corner] += 1;
+        for (a, b) in shown {
+            let (fx, fy) = (x.map(&a, (0, 100)), y.map(&b, (0, 100)));
+            let (left, right, top, bottom) = (fx <= bw, fx >= 100 - bw, fy >= 100 - bh, fy <= bh);
+            for (k, inside) in [left && top, right && top, left && bottom, right && bottom]
+                .into_iter()
+                .enumerate()
+            {
+                if inside {
+                    cover[k] += weight;
+                }
+            }
+        }
     }
-    let best = (0..4).min_by_key(|&k| count[k]).unwrap_or(0);
+    let best = (0..4).min_by(|&a, &b| cover[a].total_cmp(&cover[b])).unwrap_or(0);
     [UpperLeft, UpperRight, LowerLeft, LowerRight][best].clone()
 }
 
