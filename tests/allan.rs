@@ -98,6 +98,44 @@ fn white_noise_alone_leaves_b_and_k_consistent_with_zero() {
 }
 
 #[test]
+fn a_sensor_filter_bending_the_shortest_times_leaves_the_floor_to_flicker() {
+    // A MEMS gyro's digital filter: every sample the mean of the last four, which no term of
+    // the model makes. Weighted by the shortest times' statistics alone, that misfit moved B
+    // to zero and gave the floor to a random walk (a real ADIS16405 log: B 0, K 213).
+    let truth = NoiseModel {
+        arw_deg_rth: 0.002,
+        bias_instability_dph: 0.02,
+        ..NoiseModel::WHITE_NONE
+    };
+    for seed in 1..=4 {
+        let mut raw = Vec::new();
+        twin_log(truth, 10.0, 4.0, seed).samples(|_, r| raw.push(r));
+        let y: Vec<f64> = (3..raw.len())
+            .map(|i| raw[i - 3..=i].iter().sum::<f64>() / 4.0)
+            .collect();
+        let (_, f) = fit_series(&[&y], Sampling::contiguous(0.1)).unwrap();
+        let b = f.param(Term::BiasInstability).unwrap();
+        // The filter's white noise is a Gauss-Markov term at the shortest times; beyond it,
+        // the white level is the log's.
+        let white = f.arw_beyond_gm().unwrap_or(f.model.arw_deg_rth);
+        println!(
+            "seed {seed}: white {white:.5}, B {:.4} +- {:.4}, K {:?}, model error {:.3}, chi2/dof {:.2}",
+            b.value,
+            b.sigma,
+            f.param(Term::Rrw).map(|k| k.value),
+            f.model_error,
+            f.chi2 / f.dof as f64
+        );
+        assert!(f.model_error > 0.0, "seed {seed}: the filter fits the model: {f:?}");
+        assert!(
+            (b.value - 0.02).abs() < 3.0 * b.sigma && b.value > 0.01,
+            "seed {seed}: B {b:?}"
+        );
+        assert!((white / 0.002 - 1.0).abs() < 0.2, "seed {seed}: white {white}");
+    }
+}
+
+#[test]
 fn overlapping_adev_matches_allantools() {
     // tests/fixtures/oadev_fixture.py wrote both files (allantools 2024.6 oadev, octave taus).
     let log = StaticLog::parse(include_str!("fixtures/oadev_input.csv")).unwrap();

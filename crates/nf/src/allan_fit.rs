@@ -9,14 +9,22 @@
 //! Gauss-Markov term are kept only where an F test against the fit without them finds them.
 
 use crate::allan::{MIN_POINTS, Point, oavar, octaves};
+use crate::allan_cov::PointCov;
 use crate::allan_model::Sampling;
 use crate::gls::Cov;
 use crate::linfit;
-use crate::stats::f_sf;
+use crate::stats::{chi2_sf, f_sf};
 use nf_model::noise::NoiseModel;
 
 /// False-alarm rate of the F tests for quantisation and a Gauss-Markov term.
 pub const ALPHA: f64 = 0.01;
+/// Below this p-value of its chi-square the model does not describe the curve (a twin log,
+/// which the model does describe, comes under 1e-3 in about one of a hundred: the weights are
+/// estimated).
+const ADEQUATE: f64 = 1e-6;
+/// The relative model error is searched in this range, in this many bisections of its log.
+const MODEL_ERROR_RANGE: (f64, f64) = (1e-4, 1.0);
+const MODEL_ERROR_STEPS: usize = 14;
 /// Reweighting passes: the weights settle after two or three.
 const ITERATIONS: usize = 4;
 /// Gauss-Markov correlation times tried per octave.
@@ -48,6 +56,20 @@ impl Term {
                 m.gm_tau_s = tau_s;
             }
         }
+    }
+
+    /// The terms `m` has, with their sizes.
+    pub fn sizes(m: &NoiseModel) -> Vec<(Term, f64)> {
+        [
+            (Term::Arw, m.arw_deg_rth),
+            (Term::BiasInstability, m.bias_instability_dph),
+            (Term::Rrw, m.rrw_dph_rth),
+            (Term::Quantization, m.quantization_arcsec),
+            (Term::GaussMarkov { tau_s: m.gm_tau_s }, m.gm_sigma_dph),
+        ]
+        .into_iter()
+        .filter(|(_, size)| *size > 0.0)
+        .collect()
     }
 
     /// This term alone at unit size.
@@ -107,6 +129,9 @@ pub struct AllanFit {
     pub dof: usize,
     /// Each point's equivalent degrees of freedom under the fitted model.
     pub edf: Vec<f64>,
+    /// The relative error the points were given for the model's inadequacy (0 where the
+    /// model describes the curve within the points' own scatter).
+    pub model_error: f64,
 }
 
 impl AllanFit {
@@ -115,6 +140,14 @@ impl AllanFit {
             .iter()
             .find(|(t, _)| core::mem::discriminant(t) == core::mem::discriminant(&want))
             .map(|(_, p)| *p)
+    }
+
+    /// The white level a mean over times much longer than a kept Gauss-Markov term's sees, as
+    /// an angle random walk: N with the term's tail `2 sigma^2 tc / tau` (a sensor's filter
+    /// shows as such a term at the shortest times). `None` without the term.
+    pub fn arw_beyond_gm(&self) -> Option<f64> {
+        let (s, tau_s) = self.gm()?;
+        Some((self.model.arw_deg_rth.powi(2) + 2.0 * s.value.powi(2) * tau_s / 3600.0).sqrt())
     }
 
     /// The Gauss-Markov sigma and correlation time, when kept.
@@ -299,6 +332,66 @@ pub fn fit(points: &[Point], sampling: Sampling, lens: &[usize]) -> Result<Allan
     if points.iter().all(|p| p.avar == 0.0) {
         return Err("the rate does not vary: there is no noise to fit".into());
     }
+    let cov = PointCov::new(points, sampling, lens);
+    let mut pass = passes(points, sampling, &cov, 0.0)?;
+    let mut model_error = 0.0;
+    // A real gyro's curve can depart from every term of the model (a sensor's filter bends
+    // its shortest times): the statistical weights, 10^5 times larger there than at the
+    // longest times, would then let that misfit decide the long-time terms. The points get a
+    // relative error for the model's inadequacy, sized so the chi-square is its dof.
+    if pass.dof > 0 && chi2_sf(pass.sol.chi2, pass.dof as f64) < ADEQUATE {
+        let (mut lo, mut hi) = (MODEL_ERROR_RANGE.0.ln(), MODEL_ERROR_RANGE.1.ln());
+        for _ in 0..MODEL_ERROR_STEPS {
+            let mid = 0.5 * (lo + hi);
+            let p = passes(points, sampling, &cov, mid.exp())?;
+            if p.sol.chi2 > p.dof as f64 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        model_error = hi.exp();
+        pass = passes(points, sampling, &cov, model_error)?;
+    }
+    let Pass {
+        sol,
+        q_test,
+        gm_test,
+        sds,
+        model,
+        dof,
+    } = pass;
+    let edf = points.iter().map(|p| sampling.edf(&model, p.m, lens)).collect();
+    let terms = sol
+        .terms
+        .iter()
+        .zip(sol.coef.iter().zip(&sds))
+        .map(|(t, (c, s))| (*t, Param::of(*c, *s)))
+        .collect();
+    Ok(AllanFit {
+        model,
+        terms,
+        q_test,
+        gm_test,
+        chi2: sol.chi2,
+        dof,
+        edf,
+        model_error,
+    })
+}
+
+/// A fit at one model error, its weights iterated.
+struct Pass {
+    sol: Solution,
+    q_test: Option<FTest>,
+    gm_test: Option<(f64, FTest)>,
+    sds: Vec<f64>,
+    model: NoiseModel,
+    dof: usize,
+}
+
+/// The fit with each point's variance raised by `(model_error avar)^2`.
+fn passes(points: &[Point], sampling: Sampling, cov: &PointCov, model_error: f64) -> Result<Pass, String> {
     let base = [Term::Arw, Term::BiasInstability, Term::Rrw];
     // First pass: an estimate's relative variance is about 2 / clusters.
     let mut problem = Problem {
@@ -307,7 +400,7 @@ pub fn fit(points: &[Point], sampling: Sampling, lens: &[usize]) -> Result<Allan
         white: Whitening::Diagonal(
             points
                 .iter()
-                .map(|p| p.avar.max(f64::MIN_POSITIVE) * (2.0 / p.clusters as f64).sqrt())
+                .map(|p| p.avar.max(f64::MIN_POSITIVE) * (2.0 / p.clusters as f64 + model_error.powi(2)).sqrt())
                 .collect(),
         ),
     };
@@ -322,34 +415,32 @@ pub fn fit(points: &[Point], sampling: Sampling, lens: &[usize]) -> Result<Allan
         let (sol, gm_test) = problem.with_gm(plain);
         let sds = problem.sds(&sol);
         let model = sol.model();
-        last = Some((sol, q_test, gm_test, sds, model));
+        let free = sol.support().len() + usize::from(model.gm_sigma_dph > 0.0);
+        last = Some(Pass {
+            dof: points.len().saturating_sub(free),
+            sol,
+            q_test,
+            gm_test,
+            sds,
+            model,
+        });
         if pass + 1 < ITERATIONS {
-            problem.white = whitening(points, sampling, &model, lens)?;
+            problem.white = whitening(points, sampling, cov, &model, model_error)?;
         }
     }
-    let (sol, q_test, gm_test, sds, model) = last.expect("at least one pass");
-    let edf = points.iter().map(|p| sampling.edf(&model, p.m, lens)).collect();
-    let terms = sol
-        .terms
-        .iter()
-        .zip(sol.coef.iter().zip(&sds))
-        .map(|(t, (c, s))| (*t, Param::of(*c, *s)))
-        .collect();
-    let free = sol.support().len() + usize::from(model.gm_sigma_dph > 0.0);
-    Ok(AllanFit {
-        model,
-        terms,
-        q_test,
-        gm_test,
-        chi2: sol.chi2,
-        dof: points.len().saturating_sub(free),
-        edf,
-    })
+    Ok(last.expect("at least one pass"))
 }
 
 /// The points' covariance under `model`, factored. A point whose variance the model puts
-/// below `VAR_FLOOR` of the measured value is scaled up to it, correlations kept.
-fn whitening(points: &[Point], sampling: Sampling, model: &NoiseModel, lens: &[usize]) -> Result<Whitening, String> {
+/// below `VAR_FLOOR` of the measured value is scaled up to it, correlations kept; each gets
+/// `(model_error avar)^2` more, independently.
+fn whitening(
+    points: &[Point],
+    sampling: Sampling,
+    cov: &PointCov,
+    model: &NoiseModel,
+    model_error: f64,
+) -> Result<Whitening, String> {
     let n = points.len();
     let scale: Vec<f64> = points
         .iter()
@@ -362,13 +453,14 @@ fn whitening(points: &[Point], sampling: Sampling, model: &NoiseModel, lens: &[u
             }
         })
         .collect();
-    let mut sigma = vec![0.0; n * n];
+    let mut sigma = cov.of(model);
     for i in 0..n {
-        for j in i..n {
-            let v = sampling.avar_cov(model, points[i].m, points[j].m, lens) * scale[i] * scale[j];
-            sigma[i * n + j] = v;
-            sigma[j * n + i] = v;
+        for j in 0..n {
+            sigma[i * n + j] *= scale[i] * scale[j];
         }
+    }
+    for (i, p) in points.iter().enumerate() {
+        sigma[i * n + i] += (model_error * p.avar).powi(2);
     }
     if sigma.iter().any(|v| !v.is_finite()) || (0..n).any(|i| sigma[i * n + i] <= 0.0) {
         return Err("the fitted noise model gives the Allan points no usable covariance".into());

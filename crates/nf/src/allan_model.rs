@@ -96,40 +96,64 @@ impl Sampling {
     /// Covariance of the Allan variance estimates at factors `ma` and `mb`, pooled over
     /// independent segments of `lens` values.
     pub fn avar_cov(&self, model: &NoiseModel, ma: usize, mb: usize, lens: &[usize]) -> f64 {
-        let terms = |m: usize| -> Vec<i64> { lens.iter().map(|&n| (n as i64 + 1 - 2 * m as i64).max(0)).collect() };
-        let (ta, tb) = (terms(ma), terms(mb));
-        let (sum_a, sum_b) = (ta.iter().sum::<i64>() as f64, tb.iter().sum::<i64>() as f64);
-        if sum_a == 0.0 || sum_b == 0.0 {
-            return f64::NAN;
-        }
+        self.pooled_cov(&self.lag_grid(model, ma, mb), lens)
+    }
+
+    /// The covariances of the second differences at `ma` and `mb` over the lags that matter,
+    /// under `model`: linear in its terms' variances.
+    pub fn lag_grid(&self, model: &NoiseModel, ma: usize, mb: usize) -> LagGrid {
         let (ia, ib) = (ma as i64, mb as i64);
         let reach = LAG_SPAN * ia.max(ib);
         let span = 2 * (ia + ib) + 2 * reach;
         let stride = (ia.min(ib) / LAG_STEPS).max(span / MAX_GRID).max(1) as u64;
         let stride = stride.next_power_of_two() as i64;
         let (lo, hi) = ((-2 * ib - reach) / stride * stride, (2 * ia + reach) / stride * stride);
-        let grid: Vec<(i64, f64)> = (lo..=hi)
+        let smooth = (lo..=hi)
             .step_by(stride as usize)
-            .map(|l| (l, self.diff_cov(model, ma, mb, l).0))
+            .map(|l| self.diff_cov(model, ma, mb, l).0)
             .collect();
         // Quantisation: only at lags where ends of the two differences coincide.
-        let mut spikes: Vec<i64> = [0, ia, 2 * ia]
+        let mut lags: Vec<i64> = [0, ia, 2 * ia]
             .iter()
             .flat_map(|ea| [0, ib, 2 * ib].map(|eb| ea - eb))
             .collect();
-        spikes.sort_unstable();
-        spikes.dedup();
-        let spikes: Vec<(i64, f64)> = spikes
-            .into_iter()
-            .map(|l| (l, self.diff_cov(model, ma, mb, l)))
+        lags.sort_unstable();
+        lags.dedup();
+        let spikes = lags.into_iter().map(|l| (l, self.diff_cov(model, ma, mb, l))).collect();
+        LagGrid {
+            ma: ia,
+            mb: ib,
+            lo,
+            hi,
+            stride,
+            smooth,
+            spikes,
+        }
+    }
+
+    /// The pooled covariance of the Allan variance estimates from their lag grid.
+    pub fn pooled_cov(&self, g: &LagGrid, lens: &[usize]) -> f64 {
+        let terms = |m: i64| -> Vec<i64> { lens.iter().map(|&n| (n as i64 + 1 - 2 * m).max(0)).collect() };
+        let (ta, tb) = (terms(g.ma), terms(g.mb));
+        let (sum_a, sum_b) = (ta.iter().sum::<i64>() as f64, tb.iter().sum::<i64>() as f64);
+        if sum_a == 0.0 || sum_b == 0.0 {
+            return f64::NAN;
+        }
+        let grid: Vec<(i64, f64)> = (g.lo..=g.hi)
+            .step_by(g.stride as usize)
+            .zip(g.smooth.iter().copied())
+            .collect();
+        let spikes: Vec<(i64, f64)> = g
+            .spikes
+            .iter()
             .filter(|(_, (_, q))| *q != 0.0)
-            .map(|(l, (s, q))| (l, 2.0 * s * q + q * q))
+            .map(|&(l, (s, q))| (l, 2.0 * s * q + q * q))
             .collect();
         let mut total = 0.0;
         for (&na, &nb) in ta.iter().zip(&tb) {
             // Pairs (i, j) of second differences with j - i = l.
             let pairs = |l: i64| (na.min(nb - l) - (-l).max(0)).max(0) as f64;
-            let (first, last) = ((1 - na).max(lo), (nb - 1).min(hi));
+            let (first, last) = ((1 - na).max(g.lo), (nb - 1).min(g.hi));
             if first > last {
                 continue;
             }
@@ -141,7 +165,7 @@ impl Sampling {
             let smooth = match (inside.first(), inside.last()) {
                 (Some(a), Some(b)) => {
                     let ends = (a.1 + b.1) / 2.0;
-                    stride as f64 * (inside.iter().map(|x| x.1).sum::<f64>() - ends) + ends
+                    g.stride as f64 * (inside.iter().map(|x| x.1).sum::<f64>() - ends) + ends
                 }
                 _ => 0.0,
             };
@@ -157,6 +181,42 @@ impl Sampling {
     pub fn edf(&self, model: &NoiseModel, m: usize, lens: &[usize]) -> f64 {
         let e = self.expected_avar(model, m);
         2.0 * e * e / self.avar_cov(model, m, m, lens)
+    }
+}
+
+/// The covariances of two second differences (at factors `ma`, `mb`) at each lag of a grid
+/// and at the lags where their ends meet, as (smooth, quantisation) parts. Linear in a noise
+/// model's variances, so a model's grid is the sum of its terms' unit grids, scaled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LagGrid {
+    ma: i64,
+    mb: i64,
+    lo: i64,
+    hi: i64,
+    stride: i64,
+    smooth: Vec<f64>,
+    spikes: Vec<(i64, (f64, f64))>,
+}
+
+impl LagGrid {
+    /// `self + c other`, for grids of the same two factors.
+    pub fn add_scaled(&mut self, other: &LagGrid, c: f64) {
+        for (a, b) in self.smooth.iter_mut().zip(&other.smooth) {
+            *a += c * b;
+        }
+        for ((_, a), (_, b)) in self.spikes.iter_mut().zip(&other.spikes) {
+            a.0 += c * b.0;
+            a.1 += c * b.1;
+        }
+    }
+
+    /// The same lags with every covariance zero.
+    pub fn zero(&self) -> LagGrid {
+        LagGrid {
+            smooth: vec![0.0; self.smooth.len()],
+            spikes: self.spikes.iter().map(|&(l, _)| (l, (0.0, 0.0))).collect(),
+            ..self.clone()
+        }
     }
 }
 

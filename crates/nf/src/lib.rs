@@ -1,6 +1,7 @@
 //! `nf`, the north finder's host tool.
 
 pub mod allan;
+mod allan_cov;
 pub mod allan_fit;
 pub mod allan_model;
 pub mod allan_source;

@@ -88,12 +88,15 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
         plot::write(path, &[r.panel()])?;
     }
     if let Some(path) = &a.out {
-        let comment = format!(
+        let mut comment = format!(
             "fitted by nf allan to {} ({} values); chi2/dof {}",
             a.file,
             src.rates.len(),
             g(fit.chi2 / fit.dof as f64)
         );
+        if fit.model_error > 0.0 {
+            comment += &format!(" with a relative model error of {:.1} %", 100.0 * fit.model_error);
+        }
         std::fs::write(path, noise_file::write(&fit.model, &comment))
             .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
     }
@@ -184,6 +187,12 @@ impl Report<'_> {
             fit.dof,
             g(fit.chi2 / fit.dof as f64)
         );
+        if fit.model_error > 0.0 {
+            out += &format!(
+                "           the terms do not describe this curve within its points' scatter: each point also given a relative error of {:.1} %\n",
+                100.0 * fit.model_error
+            );
+        }
         for (term, label, unit) in TERMS {
             let line = match fit.param(term) {
                 Some(p) if p.value > 0.0 => format!("{} +- {} {unit}", g(p.value), g(p.sigma)),
@@ -201,6 +210,13 @@ impl Report<'_> {
             (None, None) => "not tested (too few points)".into(),
         };
         out += &format!("{:<26} {gm}\n", "Gauss-Markov");
+        if let Some(n) = fit.arw_beyond_gm() {
+            out += &format!(
+                "{:<26} {} deg/sqrt(h) (N with the Gauss-Markov tail: the white level of means much longer than its tau)\n",
+                "N beyond tau",
+                g(n)
+            );
+        }
         let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
         out += &format!(
             "\nfloor      measured: {} deg/h at tau {} s (read off as B = floor / {:.3}: {} deg/h)\n           fitted curve: {} deg/h at tau {} s\n",

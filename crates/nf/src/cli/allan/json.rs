@@ -13,6 +13,10 @@ use serde::Serialize;
 /// fit kept that term.
 #[derive(Serialize)]
 pub(super) struct AllanJson<'a> {
+    /// N with a kept Gauss-Markov term's tail, deg/sqrt(h): the white level of means much
+    /// longer than its time; only with the term.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    arw_beyond_gm_deg_rth: Option<f64>,
     /// Angle random walk N, deg/sqrt(h).
     arw_deg_rth: f64,
     /// 1-sigma uncertainty of N, deg/sqrt(h); null when the term was dropped.
@@ -31,6 +35,9 @@ pub(super) struct AllanJson<'a> {
     fit_chi2_per_dof: f64,
     /// Degrees of freedom of the fit.
     fit_dof: usize,
+    /// Relative error each point was also given for what the terms do not describe (0 when
+    /// they describe the curve within its scatter).
+    fit_model_error: f64,
     /// The floor of the curve, measured and fitted.
     floor: Floor,
     /// Gauss-Markov bias standard deviation, deg/h; only when the fit kept the term.
@@ -176,6 +183,7 @@ impl<'a> Report<'a> {
         let gm = fit.gm();
         let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
         AllanJson {
+            arw_beyond_gm_deg_rth: fit.arw_beyond_gm(),
             arw_deg_rth: arw.0,
             arw_deg_rth_sigma: arw.1,
             bias_instability_dph: bi.0,
@@ -195,6 +203,7 @@ impl<'a> Report<'a> {
             fit_chi2: fit.chi2,
             fit_chi2_per_dof: fit.chi2 / fit.dof as f64,
             fit_dof: fit.dof,
+            fit_model_error: fit.model_error,
             floor: Floor {
                 fitted_adev_dph: fa,
                 fitted_tau_s: ft,
