@@ -3,7 +3,7 @@
 
 use clap::Parser;
 use nf::range::{MAX_LATITUDE_DEG, above, real};
-use nf_instrument::run::{Fault, RunConfig, RunReport};
+use nf_instrument::run::{RunConfig, RunReport};
 use nf_model::angle::wrap_180;
 use nf_model::order::Order;
 use nf_twin::{Recorder, TwinConfig, simulate, virtual_now_us};
@@ -124,11 +124,7 @@ pub fn main() -> ExitCode {
     match report.result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            let what = match e.fault {
-                Fault::Aborted => "aborted".to_string(),
-                f => format!("{f:?}"),
-            };
-            eprintln!("run failed at {:?}: {what}", e.stage);
+            eprintln!("run failed {e}");
             ExitCode::FAILURE
         }
     }

@@ -15,6 +15,7 @@ pub mod clock;
 pub mod decimal;
 pub mod encoder;
 pub mod encoder_angle;
+mod fault_text;
 pub mod inclinometer;
 pub mod link;
 pub mod record;

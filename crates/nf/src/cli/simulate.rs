@@ -248,10 +248,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     match report.result {
         Ok(()) => Ok(()),
         Err(e) => Err(Fail(
-            format!(
-                "the run failed at {:?}: {:?}; {} positions written",
-                e.stage, e.fault, report.positions
-            ),
+            format!("the run failed {e}; {} positions written", report.positions),
             1,
         )),
     }
