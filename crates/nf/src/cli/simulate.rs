@@ -206,7 +206,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     if a.json {
         let j = SimJson {
             duration_s: world.t_s(),
-            error: report.result.err().map(|e| format!("{e:?}")),
+            error: report.result.err().map(|e| e.to_string()),
             firmware_azimuth_deg: az.map(|x| f64::from(x.psi_deg)),
             firmware_sigma_arcsec: az.and_then(|x| x.sigma_arcsec).map(f64::from),
             firmware_sigma_undefined: az.is_some_and(|x| x.sigma_arcsec.is_none()),
