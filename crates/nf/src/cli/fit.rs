@@ -4,7 +4,7 @@ use super::noise_args::{NoiseArgs, colour_text};
 use super::{Fail, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_calib;
-use crate::noise_fit::NoiseChoice;
+use crate::noise_fit::{NoiseChoice, NoiseSource};
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
 use crate::range::real;
@@ -158,6 +158,12 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         g.chi2,
         g.dof
     )?;
+    if matches!(g.source, NoiseSource::Estimated { .. }) {
+        writeln!(
+            out,
+            "               (from this run alone, which cannot show the wander at its own frequency: a static log of the gyro can, `nf allan LOG --out gyro.noise`, then `--noise gyro.noise`)"
+        )?;
+    }
     writeln!(
         out,
         "white LS       psi {:.5} deg +- {:.2} arcsec (sigma from the residuals, {} dof: too small when the noise is coloured)",
