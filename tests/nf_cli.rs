@@ -214,6 +214,11 @@ fn simulate_then_fit_json() {
     assert_eq!(code, 0);
     assert!(out.contains("surveying az.") && out.contains("Eq. 31 (paper)") && out.contains("drift"));
     assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    // The noise estimated from the run alone points to a static log; a given model does not.
+    let static_log = "a static log of the gyro can";
+    assert!(out.contains(static_log), "{out}");
+    let (code, out, _) = nf(&["fit", &rec, "--arw", "1.2e-4"]);
+    assert!(code == 0 && !out.contains(static_log), "{out}");
 }
 
 #[test]
@@ -412,6 +417,12 @@ fn simulate_rejects_bad_parameters_and_reports_failed_runs() {
     assert_eq!(code, 2, "{err}");
     let (code, _, err) = nf(&["simulate", "--bogus"]);
     assert_eq!(code, 2, "{err}");
+    // A gyro far noisier than the converter's range: the run fails, and says so in words.
+    let (code, _, err) = nf(&["simulate", "--n", "8", "--arw", "10"]);
+    assert!(
+        code == 1 && err.contains("at visit 0") && err.contains("the gyro ADC sat at full scale"),
+        "{code} {err}"
+    );
     let (code, out, _) = nf(&["fit", "--help"]);
     assert_eq!(code, 0);
     assert!(out.contains("--json") && out.contains("--plot"));

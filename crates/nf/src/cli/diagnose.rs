@@ -216,6 +216,12 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     writeln!(out, "noise model: {}", d.noise_source)?;
     let m = &d.noise_model;
     writeln!(out, "     N {:.3e} deg/sqrt(h), {}", m.arw_deg_rth, colour_text(m))?;
+    if d.noise_estimated {
+        writeln!(
+            out,
+            "     (from this run alone, which cannot show the wander at its own frequency: a static log of the gyro can, `nf allan LOG --out gyro.noise`, then `--noise gyro.noise`)"
+        )?;
+    }
     let (c, r) = (&d.cautious_model, &d.drift_model);
     writeln!(
         out,

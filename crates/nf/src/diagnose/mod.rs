@@ -89,6 +89,8 @@ pub struct Diagnosis {
     /// The same with a drift in the design, under which drift and jump are judged.
     pub drift_model: NoiseModel,
     pub noise_source: String,
+    /// Whether the noise model was estimated from the recording (not given).
+    pub noise_estimated: bool,
     /// Eq. 7 on the raw rates, under the noise model.
     pub baseline: Summary,
     /// Noise terms, catalogue effects and unexplained structure, in the order found.
@@ -217,6 +219,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         cautious_model: noise.cautious_model,
         drift_model: noise.drift_model,
         noise_source: noise.source,
+        noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: summary(&base),
         findings,
         selected: summary(&sel.fit),
