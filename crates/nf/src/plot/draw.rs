@@ -171,7 +171,7 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> Result<()
 }
 
 /// The corner of the plot where the legend, a box of `box_w` by `box_h` (fractions of the
-/// plot), covers least: measured points and bars weigh as much as a whole line (a line's
+/// plot), covers least: each measured point or bar weighs as much as a whole line (a line's
 /// points are dense, and covering data hides more than covering a model). Upper left where
 /// there is a tie.
 fn legend_corner(p: &Panel, x: &Axis, y: &Axis, box_w: f64, box_h: f64) -> SeriesLabelPosition {
