@@ -49,7 +49,10 @@ pub fn fit(temp: &[(f64, f64)]) -> Option<TempFit> {
     let steps = (PER_OCTAVE as f64 * (hi / lo).log2()).ceil().max(1.0) as usize;
     let period = |k: f64| lo * (hi / lo).powf(k / steps as f64);
     let rss = |k: f64| fit_at(temp, Some(period(k))).map_or(f64::MAX, |f| f.1);
-    let best = (0..=steps).min_by(|&a, &b| rss(a as f64).total_cmp(&rss(b as f64)))? as f64;
+    let best = (0..=steps)
+        .map(|k| (k, rss(k as f64)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?
+        .0 as f64;
     // Golden-section search between the grid's neighbours of the best.
     let (mut a, mut b) = ((best - 1.0).max(0.0), (best + 1.0).min(steps as f64));
     let g = (5f64.sqrt() - 1.0) / 2.0;
