@@ -1,6 +1,6 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
-use super::noise_args::{NoiseArgs, colour_text};
+use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
 use super::{Fail, diagnose_sim, read_recording, write_out};
 use crate::diagnose::{Diagnosis, Options, Point, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
@@ -217,10 +217,7 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     let m = &d.noise_model;
     writeln!(out, "     N {:.3e} deg/sqrt(h), {}", m.arw_deg_rth, colour_text(m))?;
     if d.noise_estimated {
-        writeln!(
-            out,
-            "     (from this run alone, which cannot show the wander at its own frequency: a static log of the gyro can, `nf allan LOG --out gyro.noise`, then `--noise gyro.noise`)"
-        )?;
+        writeln!(out, "     {STATIC_LOG_HINT}")?;
     }
     let (c, r) = (&d.cautious_model, &d.drift_model);
     writeln!(

@@ -1,6 +1,6 @@
 //! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
 
-use super::noise_args::{NoiseArgs, colour_text};
+use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
 use super::{Fail, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_calib;
@@ -159,10 +159,7 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         g.dof
     )?;
     if matches!(g.source, NoiseSource::Estimated { .. }) {
-        writeln!(
-            out,
-            "               (from this run alone, which cannot show the wander at its own frequency: a static log of the gyro can, `nf allan LOG --out gyro.noise`, then `--noise gyro.noise`)"
-        )?;
+        writeln!(out, "               {STATIC_LOG_HINT}")?;
     }
     writeln!(
         out,

@@ -102,6 +102,9 @@ impl NoiseArgs {
     }
 }
 
+/// Said where the noise model was estimated from the recording alone.
+pub const STATIC_LOG_HINT: &str = "(from this run alone, which cannot show the wander at its own frequency: a static log of the gyro can, `nf allan LOG --out gyro.noise`, then `--noise gyro.noise`)";
+
 /// The coloured terms of `m` for the text output: flicker and walk, and a Gauss-Markov bias
 /// where it has one.
 pub fn colour_text(m: &NoiseModel) -> String {
