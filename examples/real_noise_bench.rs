@@ -10,10 +10,10 @@
 //! how many seconds of the log one second of the recording takes, so that a run sees the
 //! log's slow wander as a longer run would. The noise is scaled so that the log's Allan
 //! deviation at a dwell (of log time, overlapping, as `nf allan` computes it) is 0.01 deg/h,
-//! the paper's gyro. Beside the estimate from each recording, `nf fit` is also given the noise
-//! model `nf allan` fits to a static log of the gyro (scaled and stretched as the recordings
-//! are), as a user who characterised the gyro would: the whole of `LOG`, or `--allan OTHER`,
-//! another log of the same gyro.
+//! the paper's gyro. Beside the estimate from each recording, `nf fit` and `nf diagnose` are
+//! also given the noise model `nf allan` fits to a static log of the gyro (scaled and
+//! stretched as the recordings are), as a user who characterised the gyro would: the whole of
+//! `LOG`, or `--allan OTHER`, another log of the same gyro.
 
 use nf::allan::oavar;
 use nf::allan_fit::fit_series;
