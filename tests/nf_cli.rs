@@ -432,7 +432,10 @@ fn simulate_rejects_bad_parameters_and_reports_failed_runs() {
 fn diagnose_json_schema_and_bad_inputs() {
     let mut twin = TwinConfig::default();
     twin.instrument.tilt_deg = 0.0;
-    twin.bias_jump = Some((40.0, 0.1));
+    twin.bias_jump = Some(nf_twin::BiasJump {
+        time_s: 40.0,
+        size_dph: 0.1,
+    });
     let run = RunConfig {
         positions: 36,
         dwell_ms: 1000,

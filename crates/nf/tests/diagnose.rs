@@ -102,7 +102,10 @@ fn quiet_twin(seed: u64) -> TwinConfig {
 #[test]
 fn a_bias_jump_is_found_with_its_time_and_size() {
     let mut twin = quiet_twin(3);
-    twin.bias_jump = Some((30.0, 0.08));
+    twin.bias_jump = Some(nf_twin::BiasJump {
+        time_s: 30.0,
+        size_dph: 0.08,
+    });
     let (rec, t0) = recording_t0(&twin);
     let d = diagnose(&rec, &Options::default()).unwrap();
     let f = first_effect(&d);
@@ -121,7 +124,11 @@ fn a_bias_jump_is_found_with_its_time_and_size() {
 fn a_second_harmonic_encoder_error_shows_in_the_third_harmonic_and_is_removed() {
     let mut twin = quiet_twin(4);
     // 600": the third harmonic it makes is about ten times its standard error here.
-    twin.encoder_error[0] = (2, 600.0, 30.0);
+    twin.encoder_error[0] = nf_twin::EncoderHarmonic {
+        harmonic: 2,
+        amplitude_arcsec: 600.0,
+        phase_deg: 30.0,
+    };
     let d = diagnose(&recording(&twin), &Options::default()).unwrap();
     let f = first_effect(&d);
     assert_eq!(f.effect, Kind::EncoderError);

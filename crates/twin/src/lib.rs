@@ -4,8 +4,10 @@
 //! virtual time: the firmware's own drivers and run logic run against it unchanged, and a
 //! 400 s run takes a fraction of a second.
 
+mod bias_step;
 pub mod biss;
 mod devices;
+mod encoder_error;
 pub mod noise;
 mod quartered;
 mod static_log;
@@ -13,7 +15,9 @@ mod step_timer;
 mod temp_swing;
 mod world;
 
+pub use bias_step::{BiasJump, Disturbance};
 pub use devices::{TwinInstrument, instrument};
+pub use encoder_error::EncoderHarmonic;
 pub use nf_model::rng::Rng;
 pub use quartered::QuarteredRecording;
 pub use static_log::StaticLog;

@@ -1,5 +1,7 @@
 //! The simulated instrument: the physical state and what each sensor sees.
 
+use crate::bias_step::{BiasJump, Disturbance};
+use crate::encoder_error::EncoderHarmonic;
 use crate::noise::{GyroNoise, Quantiser};
 use crate::temp_swing::TempSwing;
 use nf_instrument::adc::{CODE_MAX, CODE_MIN};
@@ -59,12 +61,12 @@ pub struct TwinConfig {
     pub bias_drift_dph_per_s: f64,
     /// Quadratic bias drift, deg/h per s^2.
     pub bias_drift2_dph_per_s2: f64,
-    /// A step of the bias: `(time s, size deg/h)`.
-    pub bias_jump: Option<(f64, f64)>,
+    /// A step of the bias.
+    pub bias_jump: Option<BiasJump>,
     /// Scale-factor nonlinearity: output gains `k2 * rate^2`, 1/(deg/h).
     pub nonlinearity_per_dph: f64,
-    /// Disturbances added to the gyro output: `(from s, to s, deg/h)`.
-    pub disturbances: Vec<(f64, f64, f64)>,
+    /// Disturbances added to the gyro output.
+    pub disturbances: Vec<Disturbance>,
     /// Bias change per degree C away from `temp0_c`.
     pub bias_temp_dph_per_c: f64,
     pub temp0_c: f64,
@@ -81,8 +83,8 @@ pub struct TwinConfig {
     pub settle_tau_s: f64,
     /// Encoder bits per turn.
     pub encoder_bits: u8,
-    /// Periodic encoder error: (harmonic, amplitude in arcsec, phase in deg).
-    pub encoder_error: [(u8, f64, f64); 2],
+    /// Periodic encoder error.
+    pub encoder_error: [EncoderHarmonic; 2],
     /// Inclinometer noise (deg) and mounting offsets of X and Y (deg).
     pub incl_noise_deg: f64,
     pub incl_offset_deg: (f64, f64),
@@ -127,7 +129,7 @@ impl Default for TwinConfig {
             settle_dph: 0.02,
             settle_tau_s: 0.05,
             encoder_bits: 23,
-            encoder_error: [(1, 0.0, 0.0), (2, 0.0, 0.0)],
+            encoder_error: [EncoderHarmonic::NONE; 2],
             incl_noise_deg: 0.0005,
             incl_offset_deg: (0.01, -0.02),
             motor: stepper::Config::default(),
@@ -223,12 +225,7 @@ impl World {
             return None;
         }
         self.in_move = false;
-        let err: f64 = self
-            .cfg
-            .encoder_error
-            .iter()
-            .map(|&(h, a, p)| a / 3600.0 * (h as f64 * self.shaft_deg + p).to_radians().sin())
-            .sum();
+        let err: f64 = self.cfg.encoder_error.iter().map(|e| e.at_deg(self.shaft_deg)).sum();
         let per = (1u64 << self.cfg.encoder_bits) as f64;
         Some((((self.shaft_deg + err) / 360.0 * per).round() as u64 % per as u64) as u32)
     }
@@ -258,13 +255,8 @@ impl World {
         } else {
             0.0
         };
-        let jump = c.bias_jump.map_or(0.0, |(at, size)| if t >= at { size } else { 0.0 });
-        let disturbance: f64 = c
-            .disturbances
-            .iter()
-            .filter(|d| (d.0..d.1).contains(&t))
-            .map(|d| d.2)
-            .sum();
+        let jump = c.bias_jump.map_or(0.0, |j| j.at(t));
+        let disturbance: f64 = c.disturbances.iter().map(|d| d.at(t)).sum();
         let earth = c.instrument.rate_dph(self.shaft_deg);
         earth
             + c.nonlinearity_per_dph * earth * earth

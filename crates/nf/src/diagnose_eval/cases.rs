@@ -6,7 +6,7 @@ use crate::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
-use nf_twin::{Recorder, Rng, TempSwing, TwinConfig, simulate};
+use nf_twin::{Disturbance, Recorder, Rng, TempSwing, TwinConfig, simulate};
 
 /// Dwell of every run, s. The suite's effect sizes are relative to its mean's white noise.
 pub const DWELL_S: f64 = 1.0;
@@ -121,7 +121,11 @@ impl Case {
             let windows = dwell_windows(&self.twin, &self.run);
             for s in &self.dwell_shifts {
                 if let Some(&(from, to)) = windows.get(s.visit) {
-                    twin.disturbances.push((from, to, s.dph));
+                    twin.disturbances.push(Disturbance {
+                        from_s: from,
+                        to_s: to,
+                        size_dph: s.dph,
+                    });
                 }
             }
         }

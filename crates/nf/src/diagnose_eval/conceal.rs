@@ -4,7 +4,7 @@
 
 use super::cases::{Case, DWELL_S, DwellShift};
 use crate::diagnose::Kind;
-use nf_twin::{Rng, TempSwing};
+use nf_twin::{BiasJump, EncoderHarmonic, Rng, TempSwing};
 
 /// Magnitude levels, named; [`conceal`] takes an index into them.
 pub const LEVELS: [&str; 3] = ["barely", "moderate", "clear"];
@@ -24,7 +24,10 @@ pub fn conceal(c: &mut Case, effect: Kind, level: usize, rng: &mut Rng) {
     match effect {
         Kind::BiasDrift => c.twin.bias_drift_dph_per_s = pick([1.5, 4.0, 12.0]) * s / duration,
         Kind::BiasJump => {
-            c.twin.bias_jump = Some((rng.uniform(0.3, 0.7) * duration, pick([1.5, 3.0, 8.0]) * s));
+            c.twin.bias_jump = Some(BiasJump {
+                time_s: rng.uniform(0.3, 0.7) * duration,
+                size_dph: pick([1.5, 3.0, 8.0]) * s,
+            });
         }
         Kind::ThermalDrift => {
             c.twin.temp_swing = TempSwing {
@@ -40,7 +43,11 @@ pub fn conceal(c: &mut Case, effect: Kind, level: usize, rng: &mut Rng) {
         }
         Kind::EncoderError => {
             let arcsec = pick([2.0, 4.0, 12.0]) * s / r * 206_264.8;
-            c.twin.encoder_error[0] = (2, arcsec, rng.uniform(0.0, 360.0));
+            c.twin.encoder_error[0] = EncoderHarmonic {
+                harmonic: 2,
+                amplitude_arcsec: arcsec,
+                phase_deg: rng.uniform(0.0, 360.0),
+            };
         }
         Kind::ScaleFactor => {
             let sign = if rng.unit() < 0.5 { -1.0 } else { 1.0 };
@@ -84,10 +91,10 @@ mod tests {
                 // A rough size: the parameters the effects set, whichever it is.
                 let t = &c.twin;
                 let size = t.bias_drift_dph_per_s
-                    + t.bias_jump.map_or(0.0, |j| j.1)
+                    + t.bias_jump.map_or(0.0, |j| j.size_dph)
                     + t.bias_temp_dph_per_c
                     + t.instrument.tilt_deg
-                    + t.encoder_error[0].1
+                    + t.encoder_error[0].amplitude_arcsec
                     + (t.instrument.scale - 1.0).abs()
                     + t.nonlinearity_per_dph
                     + t.settle_dph

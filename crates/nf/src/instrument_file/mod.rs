@@ -14,7 +14,7 @@ use crate::textfile::{Error, err};
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::exact::Instrument;
 use nf_model::order::Order;
-use nf_twin::TwinConfig;
+use nf_twin::{BiasJump, EncoderHarmonic, TwinConfig};
 use serde::{Deserialize, Serialize};
 
 pub const FORMAT: &str = "northfinder-instrument/1";
@@ -170,7 +170,11 @@ impl InstrumentFile {
             self.encoder
                 .error
                 .get(i)
-                .map_or((1, 0.0, 0.0), |e| (e.harmonic, e.amplitude_arcsec, e.phase_deg))
+                .map_or(EncoderHarmonic::NONE, |e| EncoderHarmonic {
+                    harmonic: e.harmonic,
+                    amplitude_arcsec: e.amplitude_arcsec,
+                    phase_deg: e.phase_deg,
+                })
         };
         TwinConfig {
             instrument: Instrument {
@@ -185,12 +189,19 @@ impl InstrumentFile {
             noise: self.noise.model(),
             bias_drift_dph_per_s: self.drift.linear_dph_per_s,
             bias_drift2_dph_per_s2: self.drift.quadratic_dph_per_s2,
-            bias_jump: self.jump.map(|j| (j.time_s, j.size_dph)),
+            bias_jump: self.jump.map(|j| BiasJump {
+                time_s: j.time_s,
+                size_dph: j.size_dph,
+            }),
             nonlinearity_per_dph: self.gyro.nonlinearity_per_dph,
             disturbances: self
                 .disturbance
                 .iter()
-                .map(|d| (d.from_s, d.to_s, d.size_dph))
+                .map(|d| nf_twin::Disturbance {
+                    from_s: d.from_s,
+                    to_s: d.to_s,
+                    size_dph: d.size_dph,
+                })
                 .collect(),
             bias_temp_dph_per_c: self.temperature.bias_dph_per_c,
             temp0_c: self.temperature.start_c,

@@ -74,14 +74,34 @@ dwell_s = 4
     assert_eq!(t.nonlinearity_per_dph, 1e-4);
     assert_eq!((t.noise.arw_deg_rth, t.noise.bias_instability_dph), (0.001, 0.002));
     assert_eq!(t.bias_drift_dph_per_s, 2e-5);
-    assert_eq!(t.bias_jump, Some((70.0, 0.03)));
+    assert_eq!(
+        t.bias_jump,
+        Some(nf_twin::BiasJump {
+            time_s: 70.0,
+            size_dph: 0.03
+        })
+    );
     assert_eq!((t.temp_ramp_c_per_s, t.bias_temp_dph_per_c), (0.01, 0.02));
     assert_eq!((t.settle_dph, t.settle_tau_s), (0.1, 0.4));
     assert_eq!(t.instrument.tilt_deg, 1.5);
-    assert_eq!(t.encoder_error[0], (2, 30.0, 45.0));
-    assert_eq!(t.encoder_error[1].1, 0.0);
+    assert_eq!(
+        t.encoder_error[0],
+        nf_twin::EncoderHarmonic {
+            harmonic: 2,
+            amplitude_arcsec: 30.0,
+            phase_deg: 45.0
+        }
+    );
+    assert_eq!(t.encoder_error[1].amplitude_arcsec, 0.0);
     assert_eq!(t.incl_offset_deg, (0.01, 0.5));
-    assert_eq!(t.disturbances, vec![(10.0, 12.0, 0.5)]);
+    assert_eq!(
+        t.disturbances,
+        vec![nf_twin::Disturbance {
+            from_s: 10.0,
+            to_s: 12.0,
+            size_dph: 0.5
+        }]
+    );
     let r = f.run_config();
     assert_eq!((r.positions, r.order, r.dwell_ms), (36, Order::ForwardBack, 4000));
 }
