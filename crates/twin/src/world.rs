@@ -3,6 +3,7 @@
 use crate::bias_step::{BiasJump, Disturbance};
 use crate::encoder_error::EncoderHarmonic;
 use crate::noise::{GyroNoise, Quantiser};
+use crate::shocks::{ShockTrain, Shocks};
 use crate::temp_swing::TempSwing;
 use nf_instrument::adc::{CODE_MAX, CODE_MIN};
 use nf_instrument::stepper;
@@ -67,6 +68,8 @@ pub struct TwinConfig {
     pub nonlinearity_per_dph: f64,
     /// Disturbances added to the gyro output.
     pub disturbances: Vec<Disturbance>,
+    /// Bursts of disturbance at random times.
+    pub shocks: Shocks,
     /// Bias change per degree C away from `temp0_c`.
     pub bias_temp_dph_per_c: f64,
     pub temp0_c: f64,
@@ -121,6 +124,7 @@ impl Default for TwinConfig {
             bias_jump: None,
             nonlinearity_per_dph: 0.0,
             disturbances: Vec::new(),
+            shocks: Shocks::NONE,
             bias_temp_dph_per_c: 0.0,
             temp0_c: 40.0,
             temp_ramp_c_per_s: 0.0,
@@ -166,6 +170,7 @@ pub struct World {
     /// Time the last move ended, s.
     pub last_move_end_s: f64,
     pub noise: GyroNoise,
+    shocks: ShockTrain,
     quantiser: Quantiser,
     /// Time of the next ADC conversion, us.
     next_sample_us: u64,
@@ -176,6 +181,7 @@ impl World {
     pub fn new(cfg: TwinConfig) -> Self {
         let rng = Rng::new(cfg.seed);
         let noise = GyroNoise::new(cfg.noise, cfg.sample_rate_hz as f64, cfg.seed);
+        let shocks = ShockTrain::new(cfg.shocks, cfg.seed);
         World {
             shaft_deg: cfg.start_deg,
             cfg,
@@ -185,6 +191,7 @@ impl World {
             dir_ccw: true,
             last_move_end_s: -1e9,
             noise,
+            shocks,
             quantiser: Quantiser::default(),
             next_sample_us: 0,
             in_move: false,
@@ -246,7 +253,7 @@ impl World {
     /// The gyro rate (deg/h) the rebalance loop outputs now, before noise.
     pub fn rate_dph(&mut self) -> f64 {
         let t = self.t_s();
-        let bias_noise = self.noise.bias_dph(t);
+        let bias_noise = self.noise.bias_dph(t) + self.shocks.at(t);
         let c = &self.cfg;
         let since = t - self.last_move_end_s;
         let settle = c.settle_dph * (-since / c.settle_tau_s).exp();

@@ -57,6 +57,7 @@ real!(temp_swing, 0.0, 100.0, "C");
 real!(period, 1.0, 1e7, "s");
 real!(temp_coef, -10.0, 10.0, "deg/h per C");
 real!(tau, 1e-4, 600.0, "s");
+real!(per_hour, 0.0, 1e6, "per hour");
 real!(arcsec, 0.0, 3600.0, "arcsec");
 real!(incl_noise, 0.0, 1.0, "deg");
 real!(speed, 1.0, 1e6, "steps/s");

@@ -6,8 +6,8 @@ mod bounds;
 mod sections;
 
 pub use sections::{
-    Disturbance, Drift, Encoder, EncoderError, Gyro, Inclinometer, Jump, Motor, Noise, Run, Settling, Shaft, Site,
-    Temperature,
+    Disturbance, Drift, Encoder, EncoderError, Gyro, Inclinometer, Jump, Motor, Noise, Run, Settling, Shaft, Shocks,
+    Site, Temperature,
 };
 
 use crate::textfile::{Error, err};
@@ -43,6 +43,8 @@ pub struct InstrumentFile {
     pub motor: Motor,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub disturbance: Vec<Disturbance>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shocks: Option<Shocks>,
     pub run: Run,
 }
 
@@ -63,6 +65,7 @@ impl Default for InstrumentFile {
             inclinometer: Inclinometer::default(),
             motor: Motor::default(),
             disturbance: Vec::new(),
+            shocks: None,
             run: Run::default(),
         }
     }
@@ -203,6 +206,7 @@ impl InstrumentFile {
                     size_dph: d.size_dph,
                 })
                 .collect(),
+            shocks: self.shocks.map_or(nf_twin::Shocks::NONE, |s| s.twin()),
             bias_temp_dph_per_c: self.temperature.bias_dph_per_c,
             temp0_c: self.temperature.start_c,
             temp_ramp_c_per_s: self.temperature.ramp_c_per_s,

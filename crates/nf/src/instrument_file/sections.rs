@@ -319,6 +319,38 @@ pub struct Disturbance {
     pub size_dph: f64,
 }
 
+/// Bursts of disturbance at random times (vibration, knocks): the dwell means' heavy tails.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Shocks {
+    /// Mean number of bursts per hour.
+    #[serde(deserialize_with = "b::per_hour")]
+    pub per_hour: f64,
+    /// Standard deviation of a burst's rate offset.
+    #[serde(deserialize_with = "b::noise_term")]
+    pub size_dph: f64,
+    #[serde(deserialize_with = "b::tau")]
+    pub duration_s: f64,
+}
+
+impl Shocks {
+    pub fn twin(&self) -> nf_twin::Shocks {
+        nf_twin::Shocks {
+            per_hour: self.per_hour,
+            size_dph: self.size_dph,
+            duration_s: self.duration_s,
+        }
+    }
+
+    pub fn of(s: nf_twin::Shocks) -> Shocks {
+        Shocks {
+            per_hour: s.per_hour,
+            size_dph: s.size_dph,
+            duration_s: s.duration_s,
+        }
+    }
+}
+
 /// The run plan.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

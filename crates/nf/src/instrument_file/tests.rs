@@ -55,6 +55,10 @@ offset_y_deg = 0.5
 from_s = 10
 to_s = 12
 size_dph = 0.5
+[shocks]
+per_hour = 120
+size_dph = 0.2
+duration_s = 0.5
 [run]
 positions = 36
 order = \"forward-back\"
@@ -102,6 +106,14 @@ dwell_s = 4
             size_dph: 0.5
         }]
     );
+    assert_eq!(
+        t.shocks,
+        nf_twin::Shocks {
+            per_hour: 120.0,
+            size_dph: 0.2,
+            duration_s: 0.5
+        }
+    );
     let r = f.run_config();
     assert_eq!((r.positions, r.order, r.dwell_ms), (36, Order::ForwardBack, 4000));
 }
@@ -134,6 +146,11 @@ fn random_file(rng: &mut Rng) -> InstrumentFile {
         to_s: u(2.0, 3.0),
         size_dph: u(-1.0, 1.0),
     }];
+    f.shocks = Some(Shocks {
+        per_hour: u(0.0, 1000.0),
+        size_dph: u(0.0, 1.0),
+        duration_s: u(0.01, 10.0),
+    });
     f.run.target_arcsec = Some(u(1.0, 100.0));
     f
 }
@@ -156,7 +173,7 @@ fn integers_are_accepted_where_reals_are_expected() {
 
 #[test]
 fn bad_values_are_named_with_their_line() {
-    let cases: [(&str, usize, &str); 10] = [
+    let cases: [(&str, usize, &str); 12] = [
         ("[site]\nlatitude_deg = 95\n", 3, "outside [-89, 89]"),
         ("[site]\nlatitude_deg = nan\n", 3, "outside"),
         ("[gyro]\nbias_dph = \"1\"\n", 3, "invalid type"),
@@ -171,6 +188,16 @@ fn bad_values_are_named_with_their_line() {
             "ends before it begins",
         ),
         ("[site\n", 2, ""),
+        (
+            "[shocks]\nper_hour = -1\nsize_dph = 1\nduration_s = 1\n",
+            3,
+            "outside [0, 1000000] per hour",
+        ),
+        (
+            "[shocks]\nper_hour = 10\nsize_dph = 1\n",
+            2,
+            "missing field `duration_s`",
+        ),
     ];
     for (body, line, says) in cases {
         let e = parse_err(&format!("{HEAD}{body}"));
