@@ -3,7 +3,7 @@
 //! its size, and the replays of the fixed file must match the recording.
 
 use nf::diagnose::{Kind, Options, diagnose};
-use nf::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump};
+use nf::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Shocks};
 use nf::recording::Recording;
 use nf::sim_compare::{self, SimReport, Verdict};
 
@@ -225,4 +225,46 @@ fn a_heater_swing_the_simulation_lacks_goes_into_the_fixed_file() {
         "{:?}",
         s.fixed.changes
     );
+}
+
+#[test]
+fn shocks_the_simulation_lacks_are_named_and_put_in() {
+    // A sixth of the dwells shifted by about ten times a dwell mean's noise; enough dwells
+    // that the few shifted ones size the shocks.
+    let dwell = base().run.dwell_s;
+    let long = |seed: u64| {
+        let mut f = base();
+        f.seed = seed;
+        f.run.positions = 240;
+        f
+    };
+    let asked = nf_twin::WindowShift {
+        share: 0.15,
+        shift_dph: 0.05,
+    };
+    let truth = asked.share.sqrt() * asked.shift_dph;
+    let mut named = 0;
+    for seed in 1..=4 {
+        let mut with = long(seed);
+        with.shocks = Some(Shocks::of(nf_twin::Shocks::for_window(asked, dwell)));
+        let s = against(&recording(&with), &long(seed));
+        let Some(p) = s.physics.iter().find(|p| p.kind == Kind::HeavyTails) else {
+            continue;
+        };
+        named += 1;
+        assert_eq!(p.verdict, Verdict::Missing);
+        let fixed = sim_compare::shock_rms(&s.fixed.file, dwell);
+        eprintln!(
+            "seed {seed}: shock rms truth {truth:.4} found {:.4} fixed {fixed:.4}, mismatches {} -> {}",
+            p.parameter.value,
+            s.before.mismatches(),
+            s.fixed.after.mismatches()
+        );
+        assert!((0.5..=2.0).contains(&(fixed / truth)), "fixed {fixed}, truth {truth}");
+        assert!(s.fixed.after.mismatches() <= s.before.mismatches());
+        // The fixed file's own recording has the tails the recording had.
+        let again = diagnose(&recording(&s.fixed.file), &Options::default()).unwrap();
+        assert!(again.findings.iter().any(|f| f.effect == Kind::HeavyTails));
+    }
+    assert!(named >= 3, "heavy tails named in {named} of 4");
 }

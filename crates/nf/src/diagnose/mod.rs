@@ -36,6 +36,7 @@ pub use averaging::Weighted;
 pub use effect::{Effect, Param};
 pub use kind::Kind;
 pub use model::Summary;
+pub use noise::SHOCK_RMS;
 pub use select::Finding;
 
 use crate::noise_fit::NoiseChoice;
@@ -150,7 +151,10 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let base = fit_of(&d.rate, w).ok_or("the positions do not determine A cos + B sin + C")?;
     let start = Model::new(d.base_cols(), y, w);
     let design = Model::new(noise.design.clone(), start.y.clone(), w);
-    let tails = tails::estimate(&design.fit().map(|f| f.resid).unwrap_or_default());
+    let tails = design.fit().map_or_else(
+        || tails::estimate(&[], &[]),
+        |f| tails::estimate(&f.resid, &design.raw_residuals(&f)),
+    );
     let mut effects: Vec<Box<dyn Effect>> = vec![
         Box::new(drift::BiasDrift),
         Box::new(jump::BiasJump),

@@ -277,6 +277,9 @@ fn allan_parameters(m: &NoiseModel, grid: &[Candidate], top: f64) -> Vec<Param> 
     out
 }
 
+/// The RMS shift shocks give a dwell mean, deg/h: a heavy-tails finding's size.
+pub const SHOCK_RMS: &str = "shock_rms_dph";
+
 /// The noise terms and the tails as findings, first in the list.
 pub fn findings(noise: &Noise, tails: &Tails, level: f64) -> Vec<Finding> {
     let after = Summary {
@@ -297,9 +300,17 @@ pub fn findings(noise: &Noise, tails: &Tails, level: f64) -> Vec<Finding> {
         })
         .collect();
     if tails.heavy(level) {
+        let mut parameters = vec![param("student_t_dof", tails.dof, None)];
+        if let Some(m) = tails.shocks {
+            parameters.extend([
+                param("shock_share", m.share, None),
+                param("shock_shift_dph", m.shift, None),
+                param(SHOCK_RMS, m.share.sqrt() * m.shift, None),
+            ]);
+        }
         out.push(Finding {
             effect: Kind::HeavyTails,
-            parameters: vec![param("student_t_dof", tails.dof, None)],
+            parameters,
             p_value: tails.p,
             location: "the whitened residuals: the outlier test is judged under this Student-t".into(),
             after,

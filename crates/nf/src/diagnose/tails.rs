@@ -1,6 +1,7 @@
 //! Heavy tails of the whitened noise: a Student-t fitted by maximum likelihood to the
 //! whitened residuals, leaving out the largest (a single burst is an outlier, not a tail),
-//! against the normal by a likelihood-ratio test.
+//! against the normal by a likelihood-ratio test; and, as the physics behind such tails, the
+//! share of dwells a shock disturbed and by how much.
 
 use crate::stats::{chi2_sf, ln_gamma};
 
@@ -14,6 +15,16 @@ pub struct Tails {
     pub dof: f64,
     /// The likelihood-ratio test against the normal.
     pub p: f64,
+    /// The rates' residuals as a normal mixture: most dwells plain, a share shifted by shocks.
+    pub shocks: Option<ShockMix>,
+}
+
+/// `(1 - share) N(0, base^2) + share N(0, base^2 + shift^2)`, deg/h.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShockMix {
+    pub share: f64,
+    pub base: f64,
+    pub shift: f64,
 }
 
 impl Tails {
@@ -23,8 +34,10 @@ impl Tails {
     }
 }
 
-/// The tails of `resid`.
-pub fn estimate(resid: &[f64]) -> Tails {
+/// The tails of `resid`, the whitened residuals, and the shocks in `rate_resid`, the same
+/// fit's residuals of the rates: a dwell a shock shifted stands out of its neighbours there,
+/// where the whitening of a colour the shocks mimic would spread it over them.
+pub fn estimate(resid: &[f64], rate_resid: &[f64]) -> Tails {
     let mut r: Vec<f64> = resid.to_vec();
     if let Some((i, _)) = r.iter().enumerate().max_by(|a, b| a.1.abs().total_cmp(&b.1.abs())) {
         r.swap_remove(i);
@@ -35,6 +48,7 @@ pub fn estimate(resid: &[f64]) -> Tails {
         return Tails {
             dof: f64::INFINITY,
             p: 1.0,
+            shocks: None,
         };
     }
     let normal = -0.5 * m * ((2.0 * std::f64::consts::PI * s2).ln() + 1.0);
@@ -48,7 +62,44 @@ pub fn estimate(resid: &[f64]) -> Tails {
     Tails {
         dof: if best > normal { dof } else { f64::INFINITY },
         p,
+        // Every residual: the largest is as much the tails' as the rest.
+        shocks: shock_mix(rate_resid),
     }
+}
+
+/// The mixture by EM, from a plain tenth of the dwells shifted by three times the robust
+/// scale; `None` where it collapses to one normal.
+fn shock_mix(r: &[f64]) -> Option<ShockMix> {
+    let mut abs: Vec<f64> = r.iter().map(|v| v.abs()).collect();
+    abs.sort_by(f64::total_cmp);
+    let robust = 1.4826 * abs[abs.len() / 2];
+    let (mut share, mut v0, mut v1) = (0.1, robust * robust, 10.0 * robust * robust);
+    if v0 <= 0.0 {
+        return None;
+    }
+    let density = |x2: f64, v: f64| (-0.5 * x2 / v).exp() / v.sqrt();
+    for _ in 0..500 {
+        let w: Vec<f64> = r
+            .iter()
+            .map(|x| {
+                let (a, b) = (share * density(x * x, v1), (1.0 - share) * density(x * x, v0));
+                if a + b > 0.0 { a / (a + b) } else { 1.0 }
+            })
+            .collect();
+        let sw: f64 = w.iter().sum();
+        let n = r.len() as f64;
+        if sw < 0.5 || n - sw < 0.5 {
+            return None;
+        }
+        share = sw / n;
+        v0 = r.iter().zip(&w).map(|(x, w)| (1.0 - w) * x * x).sum::<f64>() / (n - sw);
+        v1 = (r.iter().zip(&w).map(|(x, w)| w * x * x).sum::<f64>() / sw).max(v0 * 1.0001);
+    }
+    Some(ShockMix {
+        share,
+        base: v0.sqrt(),
+        shift: (v1 - v0).sqrt(),
+    })
 }
 
 /// Log-likelihood of a Student-t with `nu` dof at its maximum-likelihood scale (by EM).
@@ -78,10 +129,27 @@ mod tests {
         let mut rng = Rng::new(7);
         let mut r: Vec<f64> = (0..200).map(|_| rng.gauss()).collect();
         r[50] = 12.0;
-        assert!(!estimate(&r).heavy(0.025));
+        assert!(!estimate(&r, &r).heavy(0.025));
         let t: Vec<f64> = (0..200).map(|_| student(&mut rng, 3)).collect();
-        let e = estimate(&t);
+        let e = estimate(&t, &t);
         assert!(e.heavy(0.025) && e.dof <= 5.0, "dof {} p {}", e.dof, e.p);
+    }
+
+    #[test]
+    fn a_share_of_shifted_dwells_is_measured_as_one() {
+        let mut rng = Rng::new(3);
+        let (mut share, mut shift) = (Vec::new(), Vec::new());
+        for _ in 0..20 {
+            let r: Vec<f64> = (0..400)
+                .map(|_| rng.gauss() + if rng.unit() < 0.1 { 5.0 * rng.gauss() } else { 0.0 })
+                .collect();
+            let m = estimate(&r, &r).shocks.unwrap();
+            share.push(m.share);
+            shift.push(m.shift);
+        }
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        assert!((mean(&share) - 0.1).abs() < 0.02, "share {share:?}");
+        assert!((mean(&shift) - 5.0).abs() < 0.5, "shift {shift:?}");
     }
 
     #[test]
@@ -90,7 +158,7 @@ mod tests {
         let hits = (0..400)
             .filter(|_| {
                 let r: Vec<f64> = (0..72).map(|_| rng.gauss()).collect();
-                estimate(&r).heavy(0.05)
+                estimate(&r, &r).heavy(0.05)
             })
             .count();
         assert!(hits <= 32, "{hits} of 400 Gaussian samples called heavy-tailed at 5 %");

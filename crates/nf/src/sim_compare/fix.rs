@@ -9,8 +9,9 @@ use super::plan;
 use super::profile::Quantity;
 use super::thermometer;
 use crate::diagnose::{Diagnosis, Kind};
-use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise};
+use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise, Shocks};
 use crate::recording::Recording;
+use nf_twin::WindowShift;
 
 /// Sets one effect to the recording's fit; what was done, or why not.
 fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, origin_s: f64) -> String {
@@ -79,8 +80,16 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
                 size_dph: v("size_dph"),
             });
         }
+        Kind::HeavyTails if remove => file.shocks = None,
         Kind::HeavyTails => {
-            return "heavy_tails: the twin's Student-t is per sample, and the means of a dwell's samples are Gaussian; not modelled".into();
+            let w = WindowShift {
+                share: v("shock_share"),
+                shift_dph: v("shock_shift_dph"),
+            };
+            if !(w.share > 0.0 && w.shift_dph > 0.0) {
+                return "heavy_tails: no share of shifted dwells fits the residuals; set [shocks] by hand".into();
+            }
+            file.shocks = Some(Shocks::of(nf_twin::Shocks::for_window(w, dwell_s)));
         }
         Kind::BiasInstability | Kind::RateRandomWalk | Kind::CorrelatedNoise | Kind::Unexplained => {
             return String::new();

@@ -16,7 +16,7 @@ mod tests;
 mod thermometer;
 
 pub use compare::{Comparison, Line};
-pub use physics::{Physics, Verdict, settling_offset};
+pub use physics::{Physics, Verdict, settling_offset, shock_rms};
 pub use positions::{Departure, Where};
 pub use profile::{Quantity, profile};
 pub use replay::{replay, run_origin_s};

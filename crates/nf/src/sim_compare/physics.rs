@@ -2,7 +2,7 @@
 //! recording's diagnosis names, against the instrument file's value of it; and what a
 //! diagnosis of the simulation names that the recording's does not.
 
-use crate::diagnose::{Diagnosis, Finding, Kind, Param};
+use crate::diagnose::{Diagnosis, Finding, Kind, Param, SHOCK_RMS};
 use crate::instrument_file::InstrumentFile;
 use crate::recording::Recording;
 use nf_model::noise::NoiseModel;
@@ -54,6 +54,14 @@ pub fn settling_offset(file: &InstrumentFile, dwell_s: f64) -> f64 {
     let mean_over = |a: f64, b: f64| size * tau * ((-a / tau).exp() - (-b / tau).exp()) / (b - a);
     let q = dwell_s / 4.0;
     mean_over(s, s + q) - mean_over(s + q, s + dwell_s)
+}
+
+/// The RMS shift the file's shocks give a dwell mean, deg/h.
+pub fn shock_rms(file: &InstrumentFile, dwell_s: f64) -> f64 {
+    file.shocks.map_or(0.0, |s| {
+        let w = s.twin().per_window(dwell_s);
+        w.share.sqrt() * w.shift_dph
+    })
 }
 
 /// The run's middle time, s (where the diagnosis takes the drift's slope).
@@ -110,7 +118,8 @@ fn simulated(
         Kind::BiasInstability => ("bias_instability_dph", file.noise.bias_instability_dph),
         Kind::RateRandomWalk => ("rrw_dph_rth", file.noise.rrw_dph_rth),
         Kind::CorrelatedNoise => ("gm_sigma_dph", file.noise.gm_sigma_dph),
-        Kind::HeavyTails => ("student_t_dof", file.noise.student_t_dof),
+        // The samples' Student-t averages out over a dwell: the dwell means' tails are shocks.
+        Kind::HeavyTails => (SHOCK_RMS, shock_rms(file, dwell_s)),
         Kind::Unexplained => return None,
     })
 }
@@ -119,8 +128,8 @@ fn simulated(
 /// noise term, or 20 % where the diagnosis gives no uncertainty.
 fn agrees(kind: Kind, p: &Param, found: &[Param], sim: f64) -> bool {
     if kind == Kind::HeavyTails {
-        // A Student-t of dof > 30 is Gaussian for this purpose.
-        return sim > 0.0 && (sim - p.value).abs() <= 0.5 * p.value.max(sim);
+        // A few shifted dwells size the shocks: within a factor of two.
+        return sim > 0.0 && (0.5..=2.0).contains(&(p.value / sim));
     }
     let lo = param(found, &format!("{}_lo", p.name));
     let hi = param(found, &format!("{}_hi", p.name));
