@@ -304,6 +304,8 @@ pub fn optional(line: usize, name: &str, v: &str) -> Result<Option<f64>, Error> 
     }
     match v.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(Some(x)),
+        // An infinity is no "no value": the writer measured something off the scale.
+        Ok(_) => err(line, format!("{name} '{v}' is not a finite number")),
         _ => err(line, format!("{name} '{v}' is not a number")),
     }
 }
@@ -365,6 +367,10 @@ mod tests {
             assert_eq!(optional(3, "temp_c", none), Ok(None), "{none}");
         }
         assert!(optional(3, "temp_c", "--").is_err());
+        assert_eq!(
+            optional(4, "temp_c", "-inf").unwrap_err().to_string(),
+            "line 4: temp_c '-inf' is not a finite number"
+        );
         assert_eq!(
             Error {
                 line: 2,
