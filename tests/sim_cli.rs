@@ -16,6 +16,10 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
         "1e-4",
         "--encoder-error",
         "20",
+        "--shocks-per-hour",
+        "600",
+        "--shock-size",
+        "0.05",
         "--seed",
         "4",
     ];
@@ -23,12 +27,20 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
     args.extend(flags);
     let (code, _, err) = nf(&args);
     assert_eq!(code, 0, "{err}");
+    assert!(
+        std::fs::read_to_string(&inst)
+            .unwrap()
+            .contains("[shocks]\nper_hour = 600.0\nsize_dph = 0.05\nduration_s = 1.0\n")
+    );
     let (code, _, err) = nf(&["simulate", "--config", &inst, "-o", &b]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(
         std::fs::read_to_string(&a).unwrap(),
         std::fs::read_to_string(&b).unwrap()
     );
+    let (code, _, err) = nf(&["simulate", "--shock-duration", "0"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--shock-duration"), "{err}");
     let (code, _, err) = nf(&["simulate", "--config", &inst, "--lat", "10"]);
     assert_eq!(code, 2);
     assert!(err.contains("cannot be used with '--lat"), "{err}");

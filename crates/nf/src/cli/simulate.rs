@@ -2,7 +2,7 @@
 
 use super::noise_args::NoiseArgs;
 use super::{Fail, note, write_out};
-use crate::instrument_file::{EncoderError, InstrumentFile, Noise, Site};
+use crate::instrument_file::{EncoderError, InstrumentFile, Noise, Shocks, Site};
 use crate::range::{MAX_LATITUDE_DEG, above, real};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
@@ -87,6 +87,15 @@ pub struct SimArgs {
     /// Inclinometer noise, deg.
     #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.0005, value_parser = real(0.0, 1.0))]
     incl_noise: f64,
+    /// Shocks: bursts of rate offset at random times, mean number per hour (0: none).
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.0, value_parser = real(0.0, 1e6))]
+    shocks_per_hour: f64,
+    /// Standard deviation of a shock's rate offset, deg/h.
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 0.1, value_parser = real(0.0, 1e3))]
+    shock_size: f64,
+    /// Length of a shock, s.
+    #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 1.0, value_parser = real(1e-4, 600.0))]
+    shock_duration: f64,
     /// Random seed (default: the instrument file's, or 1).
     #[arg(long, allow_hyphen_values = true)]
     seed: Option<u64>,
@@ -167,6 +176,11 @@ fn from_flags(a: &SimArgs) -> Result<InstrumentFile, Fail> {
     f.temperature.ramp_c_per_s = a.temp_ramp;
     f.temperature.bias_dph_per_c = a.temp_coef;
     f.inclinometer.noise_deg = a.incl_noise;
+    f.shocks = (a.shocks_per_hour > 0.0).then_some(Shocks {
+        per_hour: a.shocks_per_hour,
+        size_dph: a.shock_size,
+        duration_s: a.shock_duration,
+    });
     f.motor.max_sps = a.max_sps;
     f.motor.accel_sps2 = a.accel;
     f.run.positions = a.n;
