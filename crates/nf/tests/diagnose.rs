@@ -304,3 +304,26 @@ fn the_noise_estimate_takes_the_quarters_of_the_dwells_that_have_them() {
     let ratio = b.final_.sigma_arcsec / a.final_.sigma_arcsec;
     assert!((0.9..1.1).contains(&ratio), "{ratio}");
 }
+
+#[test]
+fn a_run_over_four_angles_again_and_again_is_diagnosed() {
+    // The classic four-position finder: harmonics 2-4 of four angles alias or vanish, and the
+    // noise estimate keeps only the columns they leave.
+    let mut rng = nf_model::rng::Rng::new(6);
+    let mut text = "# format = northfinder-recording/1\n# latitude_deg = 43.8\n# dwell_s = 2\n\
+                    index,t_s,encoder_deg,rate_dph\n"
+        .to_string();
+    let amp = 15.041 * 43.8f64.to_radians().cos();
+    for i in 0..36 {
+        let g = [0.0, 90.0, 180.0, 270.0][i % 4];
+        let rate = amp * (g + 30.0f64).to_radians().cos() + 0.3 + 0.005 * rng.gauss();
+        text += &format!("{i},{},{g},{rate}\n", 2.0 + 3.0 * i as f64);
+    }
+    let d = diagnose(&Recording::parse(&text).unwrap(), &Options::default()).unwrap();
+    let err = (d.final_.azimuth_deg - 30.0) * 3600.0;
+    assert!(
+        err.abs() < 3.0 * d.final_.sigma_arcsec,
+        "{err}\" off, sigma {}",
+        d.final_.sigma_arcsec
+    );
+}

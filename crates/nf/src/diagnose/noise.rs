@@ -80,11 +80,24 @@ fn design(d: &Data) -> Vec<Vec<f64>> {
     }
     groups.extend((2..=4).map(|k| d.harmonic(k).to_vec()));
     for g in groups {
-        if cols.len() + g.len() <= d.n() / 3 {
-            cols.extend(g);
+        // On few distinct angles a harmonic aliases onto a lower one or vanishes.
+        let mut with = cols.clone();
+        for c in g {
+            if independent(&with, &c) {
+                with.push(c);
+            }
+        }
+        if with.len() <= d.n() / 3 {
+            cols = with;
         }
     }
     cols
+}
+
+/// Whether `c` has a part that `cols` cannot make.
+fn independent(cols: &[Vec<f64>], c: &[f64]) -> bool {
+    let norm: f64 = c.iter().map(|v| v * v).sum();
+    linfit::fit(cols, c).is_some_and(|ls| ls.rss > 1e-9 * norm)
 }
 
 /// Estimates (or takes) the noise model of `y`, the rates less the tilt correction.
