@@ -267,4 +267,15 @@ fn shocks_the_simulation_lacks_are_named_and_put_in() {
         assert!(again.findings.iter().any(|f| f.effect == Kind::HeavyTails));
     }
     assert!(named >= 3, "heavy tails named in {named} of 4");
+    // The other way: shocks only the simulation has are taken out.
+    let mut with = long(1);
+    with.shocks = Some(Shocks::of(nf_twin::Shocks::for_window(asked, dwell)));
+    let s = against(&recording(&long(1)), &with);
+    let p = s.physics.iter().find(|p| p.kind == Kind::HeavyTails);
+    assert!(
+        p.is_some_and(|p| p.verdict == Verdict::OnlyInSimulation),
+        "{:?}",
+        s.physics
+    );
+    assert_eq!(s.fixed.file.shocks, None);
 }
