@@ -116,7 +116,7 @@ pub struct SimArgs {
 struct SimJson {
     /// Virtual time of the run, s.
     duration_s: f64,
-    /// Why the run failed (Rust debug form); null when it finished.
+    /// Why the run failed, in words; null when it finished.
     error: Option<String>,
     /// The firmware's azimuth psi, deg; null without a fit.
     firmware_azimuth_deg: Option<f64>,
