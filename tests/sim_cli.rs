@@ -41,6 +41,9 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
     let (code, _, err) = nf(&["simulate", "--shock-duration", "0"]);
     assert_eq!(code, 2);
     assert!(err.contains("--shock-duration"), "{err}");
+    let (code, _, err) = nf(&["simulate", "--shocks-per-hour", "1e6"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("under way at once"), "{err}");
     let (code, _, err) = nf(&["simulate", "--config", &inst, "--lat", "10"]);
     assert_eq!(code, 2);
     assert!(err.contains("cannot be used with '--lat"), "{err}");

@@ -31,6 +31,14 @@ impl Shocks {
         duration_s: 1.0,
     };
 
+    /// Bursts under way at once, on average: each costs the twin an addition per sample.
+    pub fn under_way(&self) -> f64 {
+        self.per_hour / 3600.0 * self.duration_s
+    }
+
+    /// More bursts at once than this are a Gaussian process, not shocks.
+    pub const MAX_UNDER_WAY: f64 = 100.0;
+
     /// The share of means over `window_s` that a burst touches, and the RMS shift of such a
     /// mean (one burst; several are rare where the share is small).
     pub fn per_window(&self, window_s: f64) -> WindowShift {

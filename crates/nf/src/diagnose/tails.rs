@@ -19,11 +19,10 @@ pub struct Tails {
     pub shocks: Option<ShockMix>,
 }
 
-/// `(1 - share) N(0, base^2) + share N(0, base^2 + shift^2)`, deg/h.
+/// `(1 - share) N(0, s^2) + share N(0, s^2 + shift^2)`, deg/h.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShockMix {
     pub share: f64,
-    pub base: f64,
     pub shift: f64,
 }
 
@@ -70,6 +69,9 @@ pub fn estimate(resid: &[f64], rate_resid: &[f64]) -> Tails {
 /// The mixture by EM, from a plain tenth of the dwells shifted by three times the robust
 /// scale; `None` where it collapses to one normal.
 fn shock_mix(r: &[f64]) -> Option<ShockMix> {
+    if r.len() < 8 {
+        return None;
+    }
     let mut abs: Vec<f64> = r.iter().map(|v| v.abs()).collect();
     abs.sort_by(f64::total_cmp);
     let robust = 1.4826 * abs[abs.len() / 2];
@@ -97,7 +99,6 @@ fn shock_mix(r: &[f64]) -> Option<ShockMix> {
     }
     Some(ShockMix {
         share,
-        base: v0.sqrt(),
         shift: (v1 - v0).sqrt(),
     })
 }

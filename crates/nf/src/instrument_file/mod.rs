@@ -142,6 +142,13 @@ impl InstrumentFile {
                 ),
             );
         }
+        if let Some(s) = self
+            .shocks
+            .map(|s| s.twin())
+            .filter(|s| s.under_way() > nf_twin::Shocks::MAX_UNDER_WAY)
+        {
+            return err(line_of(text, "per_hour"), shocks_too_dense(s));
+        }
         if let Some(d) = self.disturbance.iter().find(|d| d.to_s <= d.from_s) {
             return err(
                 line_of(text, "to_s"),
@@ -240,6 +247,17 @@ impl InstrumentFile {
             ..RunConfig::default()
         }
     }
+}
+
+/// Why shocks this dense are refused.
+pub fn shocks_too_dense(s: nf_twin::Shocks) -> String {
+    format!(
+        "[shocks]: {} bursts per hour of {} s are {:.0} under way at once, more than {}: that is a Gaussian wander, not shocks",
+        s.per_hour,
+        s.duration_s,
+        s.under_way(),
+        nf_twin::Shocks::MAX_UNDER_WAY
+    )
 }
 
 #[cfg(test)]

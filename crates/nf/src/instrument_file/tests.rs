@@ -173,7 +173,7 @@ fn integers_are_accepted_where_reals_are_expected() {
 
 #[test]
 fn bad_values_are_named_with_their_line() {
-    let cases: [(&str, usize, &str); 12] = [
+    let cases: [(&str, usize, &str); 13] = [
         ("[site]\nlatitude_deg = 95\n", 3, "outside [-89, 89]"),
         ("[site]\nlatitude_deg = nan\n", 3, "outside"),
         ("[gyro]\nbias_dph = \"1\"\n", 3, "invalid type"),
@@ -197,6 +197,11 @@ fn bad_values_are_named_with_their_line() {
             "[shocks]\nper_hour = 10\nsize_dph = 1\n",
             2,
             "missing field `duration_s`",
+        ),
+        (
+            "[shocks]\nper_hour = 1e6\nsize_dph = 1\nduration_s = 1\n",
+            3,
+            "278 under way at once",
         ),
     ];
     for (body, line, says) in cases {
