@@ -17,7 +17,7 @@ pub struct Shocks {
 }
 
 /// What shocks do to the mean over a window: the chance that a burst touches it, and the
-/// mean square of the shift one burst gives the mean.
+/// RMS shift one burst gives the mean.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindowShift {
     pub share: f64,
@@ -31,13 +31,13 @@ impl Shocks {
         duration_s: 1.0,
     };
 
+    /// More bursts at once than this are a Gaussian process, not shocks.
+    pub const MAX_UNDER_WAY: f64 = 100.0;
+
     /// Bursts under way at once, on average: each costs the twin an addition per sample.
     pub fn under_way(&self) -> f64 {
         self.per_hour / 3600.0 * self.duration_s
     }
-
-    /// More bursts at once than this are a Gaussian process, not shocks.
-    pub const MAX_UNDER_WAY: f64 = 100.0;
 
     /// The share of means over `window_s` that a burst touches, and the RMS shift of such a
     /// mean (one burst; several are rare where the share is small).
@@ -73,8 +73,14 @@ pub struct ShockTrain {
     rng: Rng,
     /// When the next burst starts, s.
     next_s: f64,
-    /// The bursts under way: `(end s, offset deg/h)`.
-    active: Vec<(f64, f64)>,
+    active: Vec<Burst>,
+}
+
+/// A burst under way.
+#[derive(Debug, Clone, Copy)]
+struct Burst {
+    end_s: f64,
+    offset_dph: f64,
 }
 
 impl ShockTrain {
@@ -101,12 +107,14 @@ impl ShockTrain {
     /// The bursts' offset at `t_s` (not earlier than the last call's), deg/h.
     pub fn at(&mut self, t_s: f64) -> f64 {
         while self.next_s <= t_s {
-            let size = self.shocks.size_dph * self.rng.gauss();
-            self.active.push((self.next_s + self.shocks.duration_s, size));
+            self.active.push(Burst {
+                end_s: self.next_s + self.shocks.duration_s,
+                offset_dph: self.shocks.size_dph * self.rng.gauss(),
+            });
             self.next_s += self.gap_s();
         }
-        self.active.retain(|b| b.0 > t_s);
-        self.active.iter().map(|b| b.1).sum()
+        self.active.retain(|b| b.end_s > t_s);
+        self.active.iter().map(|b| b.offset_dph).sum()
     }
 }
 
