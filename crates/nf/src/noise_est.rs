@@ -407,6 +407,24 @@ impl Grid {
         }
     }
 
+    /// A Gauss-Markov bias shorter than [`Grid::gauss_markov`]'s: its time in half decades
+    /// from a quarter of a dwell to three spacings. It is the scatter of whole dwells beyond
+    /// what their quarters show, white from dwell to dwell: what shocks make.
+    fn short_gauss_markov(unit: f64, dwell_s: f64, spacing_s: f64) -> Grid {
+        let (a, coarse_a) = ratios(unit);
+        let (b, coarse_b) = (0..)
+            .map(|k| (dwell_s / 4.0 * 10f64.powf(k as f64 / 2.0), k % 2 == 0))
+            .take_while(|&(tau, _)| tau < 3.0 * spacing_s)
+            .unzip();
+        Grid {
+            family: Family::GaussMarkov,
+            a,
+            b,
+            coarse_a,
+            coarse_b,
+        }
+    }
+
     fn point(&self, i: usize, j: usize) -> Point {
         Point {
             family: self.family,
@@ -471,14 +489,15 @@ pub enum Colours {
     /// one run and mostly too short: a sigma averaged over its models is too small (RMS
     /// error/sigma 1.5 in a sequential run under a walk or a Gauss-Markov bias).
     WithGaussMarkov,
+    /// Flicker and walk, and a Gauss-Markov bias shorter than three dwell spacings: for
+    /// heavy-tailed dwell means (`nf fit`), whose excess over their quarters is shocks, white
+    /// from dwell to dwell, which flicker would take for wander.
+    WithShocks,
 }
 
-/// Estimates white noise, flicker and rate random walk from a recording.
-pub fn estimate(data: Data<'_>) -> Option<Estimate> {
-    estimate_all(data, &[], Colours::FlickerAndWalk)
-        .into_iter()
-        .next()
-        .flatten()
+/// Estimates white noise and `colours` from a recording.
+pub fn estimate(data: Data<'_>, colours: Colours) -> Option<Estimate> {
+    estimate_all(data, &[], colours).into_iter().next().flatten()
 }
 
 /// The estimate under `colours` for `data` and for each of `more` designs of the same
@@ -488,8 +507,10 @@ pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]], colours: Colour
     let p = Problem::new(data, more);
     let (ub, uk) = p.units();
     let mut grids = vec![Grid::wander(ub, uk)];
-    if colours == Colours::WithGaussMarkov {
-        grids.push(Grid::gauss_markov(ub, p.spacing(), p.span()));
+    match colours {
+        Colours::FlickerAndWalk => {}
+        Colours::WithGaussMarkov => grids.push(Grid::gauss_markov(ub, p.spacing(), p.span())),
+        Colours::WithShocks => grids.push(Grid::short_gauss_markov(ub, p.data.dwell_s, p.spacing())),
     }
     let mut cands: Vec<Vec<(Point, Candidate)>> = vec![Vec::new(); p.designs.len()];
     // Whole decades first, then the half decades next to a point that is not negligible for

@@ -1,9 +1,11 @@
 //! The azimuth by generalised least squares under a gyro noise model, given or estimated from
 //! the recording, and the check that the Earth rate was resolved at all.
 
+use crate::diagnose::tails;
 use crate::gls::{self, Cov, WindowSet};
+use crate::linfit;
 use crate::noise_calib::{self, Calibration, Verdict};
-use crate::noise_est::{self, Candidate, Data, Estimate, Thinned};
+use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned};
 use crate::recording::Recording;
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
@@ -151,12 +153,13 @@ pub fn fit(
                 y,
                 quarters: &quarters,
             };
+            let colours = colours_of(&cols, y);
             let (e, one_in) =
-                estimate(data.clone()).ok_or("the noise model could not be estimated from the recording")?;
+                estimate(data.clone(), colours).ok_or("the noise model could not be estimated from the recording")?;
             let j = judge(&e).ok_or("no noise model fits")?;
             let fitted: Vec<f64> = (0..n).map(|i| (0..p).map(|k| cols[k][i] * j.coef[k]).sum()).collect();
             // Replicates from the supported model, fitted the same way, calibrate the sigma.
-            let judge_replica = |d: Data<'_>| estimate(d).and_then(|(e, _)| judge(&e)).map(|j| j.verdict);
+            let judge_replica = |d: Data<'_>| estimate(d, colours).and_then(|(e, _)| judge(&e)).map(|j| j.verdict);
             let calibration = noise_calib::calibrate(&data, &j.model, &fitted, &j.verdict, replicates, judge_replica);
             let scale = calibration.map_or((1.0, 1.0), |c| (c.psi, c.amplitude));
             let v = Verdict {
@@ -196,17 +199,20 @@ pub fn fit(
 /// [`noise_est::THINNED`] rows the noise is estimated from one dwell mean in k and every
 /// quarter, and the models that carry weight are refitted on every row: the azimuth comes
 /// from their fits.
-fn estimate(data: Data<'_>) -> Option<(Estimate, usize)> {
+fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
     if data.t_s.len() <= noise_est::THINNED {
-        return noise_est::estimate(data).map(|e| (e, 1));
+        return noise_est::estimate(data, colours).map(|e| (e, 1));
     }
     let th = Thinned::new(data.t_s, data.y, &[data.cols]);
-    let e = noise_est::estimate(Data {
-        t_s: &th.t_s,
-        y: &th.y,
-        cols: &th.designs[0],
-        ..data.clone()
-    })?;
+    let e = noise_est::estimate(
+        Data {
+            t_s: &th.t_s,
+            y: &th.y,
+            cols: &th.designs[0],
+            ..data.clone()
+        },
+        colours,
+    )?;
     let windows = WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]);
     let refit = |c: Candidate| -> Option<Candidate> {
         let g = gls::fit(data.cols, data.y, &windows.cov(&c.model)?)?;
@@ -230,6 +236,19 @@ fn estimate(data: Data<'_>) -> Option<(Estimate, usize)> {
     };
     Some((e, th.every))
 }
+
+/// Heavy-tailed dwell means (their least-squares residuals' tails beat the normal at
+/// [`SHOCK_TAILS`]) are shocks: the short Gauss-Markov family joins flicker and walk, so that
+/// their scatter beyond the quarters is not taken for wander.
+fn colours_of(cols: &[Vec<f64>], y: &[f64]) -> Colours {
+    match linfit::fit(cols, y) {
+        Some(ls) if tails::estimate(&ls.resid, &ls.resid).heavy(SHOCK_TAILS) => Colours::WithShocks,
+        _ => Colours::FlickerAndWalk,
+    }
+}
+
+/// The level of the tails' test that lets the shocks' family in.
+const SHOCK_TAILS: f64 = 0.01;
 
 /// A grid model under this share of the grid's best likelihood is not refitted on every row.
 const NEGLIGIBLE: f64 = 1e-3;

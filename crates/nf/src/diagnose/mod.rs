@@ -27,7 +27,7 @@ mod scan;
 mod select;
 mod settling;
 mod shaft_tilt;
-mod tails;
+pub(crate) mod tails;
 mod thermal;
 mod unexplained;
 mod whiten;
