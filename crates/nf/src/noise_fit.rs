@@ -30,6 +30,8 @@ pub enum NoiseSource {
         one_in: usize,
         /// The parametric bootstrap that scaled the sigmas, when it could be run.
         calibration: Option<Calibration>,
+        /// The colour families searched (shocks: heavy-tailed dwell means).
+        colours: Colours,
     },
     Given(String),
 }
@@ -42,6 +44,7 @@ impl NoiseSource {
                 from_quarters,
                 one_in,
                 calibration,
+                colours,
             } => {
                 let from = match from_quarters {
                     0 => String::new(),
@@ -58,7 +61,15 @@ impl NoiseSource {
                     1 => "the dwell means".to_string(),
                     k => format!("one in {k} of the dwell means"),
                 };
-                format!("estimated from the recording ({from}REML on {means} in time order, {dof} dof){calibrated}")
+                let shocks = match colours {
+                    Colours::WithShocks => {
+                        "; the dwell means are heavy-tailed: read as shocks (a Gauss-Markov bias shorter than three dwell spacings searched too), not as wander"
+                    }
+                    _ => "",
+                };
+                format!(
+                    "estimated from the recording ({from}REML on {means} in time order, {dof} dof){calibrated}{shocks}"
+                )
             }
             NoiseSource::Given(s) => format!("given: {s}"),
         }
@@ -172,6 +183,7 @@ pub fn fit(
                 from_quarters: quarters.len(),
                 one_in,
                 calibration,
+                colours,
             };
             (j.model, source, v)
         }
