@@ -254,7 +254,7 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
 /// their scatter beyond the quarters is not taken for wander.
 fn colours_of(cols: &[Vec<f64>], y: &[f64]) -> Colours {
     match linfit::fit(cols, y) {
-        Some(ls) if tails::estimate(&ls.resid, &ls.resid).heavy(SHOCK_TAILS) => Colours::WithShocks,
+        Some(ls) if tails::estimate(&ls.resid).heavy(SHOCK_TAILS) => Colours::WithShocks,
         _ => Colours::FlickerAndWalk,
     }
 }

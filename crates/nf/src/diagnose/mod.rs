@@ -151,10 +151,9 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let base = fit_of(&d.rate, w).ok_or("the positions do not determine A cos + B sin + C")?;
     let start = Model::new(d.base_cols(), y, w);
     let design = Model::new(noise.design.clone(), start.y.clone(), w);
-    let tails = design.fit().map_or_else(
-        || tails::estimate(&[], &[]),
-        |f| tails::estimate(&f.resid, &design.raw_residuals(&f)),
-    );
+    let design_fit = design.fit();
+    let tails = tails::estimate(design_fit.as_ref().map_or(&[][..], |f| &f.resid));
+    let rate_resid = design_fit.map(|f| design.raw_residuals(&f)).unwrap_or_default();
     let mut effects: Vec<Box<dyn Effect>> = vec![
         Box::new(drift::BiasDrift),
         Box::new(jump::BiasJump),
@@ -186,7 +185,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
     let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
-    let mut findings = noise::findings(&noise, &tails, opt.alpha / 2.0);
+    let mut findings = noise::findings(&noise, &tails, &rate_resid, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either, nor
     // white noise: whole dwells that scatter more than their quarters say (shocks) make the

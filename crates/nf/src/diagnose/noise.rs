@@ -13,7 +13,7 @@ use super::effect::{Param, param};
 use super::kind::Kind;
 use super::model::Summary;
 use super::select::Finding;
-use super::tails::Tails;
+use super::tails::{Tails, shock_mix};
 use super::whiten::Whitener;
 use crate::gls::WindowSet;
 use crate::linfit;
@@ -294,7 +294,8 @@ fn allan_parameters(m: &NoiseModel, grid: &[Candidate], top: f64) -> Vec<Param> 
 pub const SHOCK_RMS: &str = "shock_rms_dph";
 
 /// The noise terms and the tails as findings, first in the list.
-pub fn findings(noise: &Noise, tails: &Tails, level: f64) -> Vec<Finding> {
+/// `rate_resid`, the rates' residuals of the fit the tails were judged on, size the shocks.
+pub fn findings(noise: &Noise, tails: &Tails, rate_resid: &[f64], level: f64) -> Vec<Finding> {
     let after = Summary {
         azimuth_deg: f64::NAN,
         rss: f64::NAN,
@@ -314,7 +315,7 @@ pub fn findings(noise: &Noise, tails: &Tails, level: f64) -> Vec<Finding> {
         .collect();
     if tails.heavy(level) {
         let mut parameters = vec![param("student_t_dof", tails.dof, None)];
-        if let Some(m) = tails.shocks {
+        if let Some(m) = shock_mix(rate_resid) {
             parameters.extend([
                 param("shock_share", m.share, None),
                 param("shock_shift_dph", m.shift, None),

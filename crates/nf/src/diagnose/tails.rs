@@ -3,7 +3,7 @@
 //! against the normal by a likelihood-ratio test; and, as the physics behind such tails, the
 //! share of dwells a shock disturbed and by how much.
 
-use crate::stats::{chi2_sf, ln_gamma};
+use crate::stats::{chi2_sf, ln_gamma, robust_sigma};
 
 /// Degrees of freedom tried; the normal is the limit.
 const DOF: [f64; 8] = [2.5, 3.0, 4.0, 5.0, 7.0, 10.0, 15.0, 30.0];
@@ -15,8 +15,6 @@ pub struct Tails {
     pub dof: f64,
     /// The likelihood-ratio test against the normal.
     pub p: f64,
-    /// The rates' residuals as a normal mixture: most dwells plain, a share shifted by shocks.
-    pub shocks: Option<ShockMix>,
 }
 
 /// `(1 - share) N(0, s^2) + share N(0, s^2 + shift^2)`, deg/h.
@@ -33,10 +31,8 @@ impl Tails {
     }
 }
 
-/// The tails of `resid`, the whitened residuals, and the shocks in `rate_resid`, the same
-/// fit's residuals of the rates: a dwell a shock shifted stands out of its neighbours there,
-/// where the whitening of a colour the shocks mimic would spread it over them.
-pub fn estimate(resid: &[f64], rate_resid: &[f64]) -> Tails {
+/// The tails of `resid`.
+pub fn estimate(resid: &[f64]) -> Tails {
     let mut r: Vec<f64> = resid.to_vec();
     if let Some((i, _)) = r.iter().enumerate().max_by(|a, b| a.1.abs().total_cmp(&b.1.abs())) {
         r.swap_remove(i);
@@ -47,7 +43,6 @@ pub fn estimate(resid: &[f64], rate_resid: &[f64]) -> Tails {
         return Tails {
             dof: f64::INFINITY,
             p: 1.0,
-            shocks: None,
         };
     }
     let normal = -0.5 * m * ((2.0 * std::f64::consts::PI * s2).ln() + 1.0);
@@ -61,20 +56,19 @@ pub fn estimate(resid: &[f64], rate_resid: &[f64]) -> Tails {
     Tails {
         dof: if best > normal { dof } else { f64::INFINITY },
         p,
-        // Every residual: the largest is as much the tails' as the rest.
-        shocks: shock_mix(rate_resid),
     }
 }
 
-/// The mixture by EM, from a plain tenth of the dwells shifted by three times the robust
-/// scale; `None` where it collapses to one normal.
-fn shock_mix(r: &[f64]) -> Option<ShockMix> {
+/// The shocks behind heavy tails in `r`, residuals of the rates: a dwell a shock shifted
+/// stands out of its neighbours there, where the whitening of a colour the shocks mimic
+/// would spread it over them. Every residual counts: the largest is as much the tails' as
+/// the rest. The mixture by EM, from a plain tenth of the dwells shifted by three times the
+/// robust scale; `None` where it collapses to one normal.
+pub fn shock_mix(r: &[f64]) -> Option<ShockMix> {
     if r.len() < 8 {
         return None;
     }
-    let mut abs: Vec<f64> = r.iter().map(|v| v.abs()).collect();
-    abs.sort_by(f64::total_cmp);
-    let robust = 1.4826 * abs[abs.len() / 2];
+    let robust = robust_sigma(r.iter().copied());
     let (mut share, mut v0, mut v1) = (0.1, robust * robust, 10.0 * robust * robust);
     if v0 <= 0.0 {
         return None;
@@ -130,9 +124,9 @@ mod tests {
         let mut rng = Rng::new(7);
         let mut r: Vec<f64> = (0..200).map(|_| rng.gauss()).collect();
         r[50] = 12.0;
-        assert!(!estimate(&r, &r).heavy(0.025));
+        assert!(!estimate(&r).heavy(0.025));
         let t: Vec<f64> = (0..200).map(|_| student(&mut rng, 3)).collect();
-        let e = estimate(&t, &t);
+        let e = estimate(&t);
         assert!(e.heavy(0.025) && e.dof <= 5.0, "dof {} p {}", e.dof, e.p);
     }
 
@@ -144,7 +138,7 @@ mod tests {
             let r: Vec<f64> = (0..400)
                 .map(|_| rng.gauss() + if rng.unit() < 0.1 { 5.0 * rng.gauss() } else { 0.0 })
                 .collect();
-            let m = estimate(&r, &r).shocks.unwrap();
+            let m = shock_mix(&r).unwrap();
             share.push(m.share);
             shift.push(m.shift);
         }
@@ -159,7 +153,7 @@ mod tests {
         let hits = (0..400)
             .filter(|_| {
                 let r: Vec<f64> = (0..72).map(|_| rng.gauss()).collect();
-                estimate(&r, &r).heavy(0.05)
+                estimate(&r).heavy(0.05)
             })
             .count();
         assert!(hits <= 32, "{hits} of 400 Gaussian samples called heavy-tailed at 5 %");
