@@ -2,7 +2,7 @@
 
 use super::noise_args::NoiseArgs;
 use super::{Fail, note, write_out};
-use crate::instrument_file::{EncoderError, InstrumentFile, Noise, Shocks, Site, shocks_too_dense};
+use crate::instrument_file::{EncoderError, InstrumentFile, Noise, Shocks, Site};
 use crate::range::{MAX_LATITUDE_DEG, above, real};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
@@ -181,12 +181,8 @@ fn from_flags(a: &SimArgs) -> Result<InstrumentFile, Fail> {
         size_dph: a.shock_size,
         duration_s: a.shock_duration,
     });
-    if let Some(s) = f
-        .shocks
-        .map(|s| s.twin())
-        .filter(|s| s.under_way() > nf_twin::Shocks::MAX_UNDER_WAY)
-    {
-        return Err(Fail(shocks_too_dense(s), 2));
+    if let Some(e) = f.shocks_too_dense() {
+        return Err(Fail(e, 2));
     }
     f.motor.max_sps = a.max_sps;
     f.motor.accel_sps2 = a.accel;

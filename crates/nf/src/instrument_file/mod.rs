@@ -142,12 +142,8 @@ impl InstrumentFile {
                 ),
             );
         }
-        if let Some(s) = self
-            .shocks
-            .map(|s| s.twin())
-            .filter(|s| s.under_way() > nf_twin::Shocks::MAX_UNDER_WAY)
-        {
-            return err(line_of(text, "per_hour"), shocks_too_dense(s));
+        if let Some(e) = self.shocks_too_dense() {
+            return err(line_of(text, "per_hour"), e);
         }
         if let Some(d) = self.disturbance.iter().find(|d| d.to_s <= d.from_s) {
             return err(
@@ -159,6 +155,20 @@ impl InstrumentFile {
             );
         }
         Ok(())
+    }
+
+    /// Why the shocks are refused, if they are so dense that many are under way at once.
+    pub fn shocks_too_dense(&self) -> Option<String> {
+        let s = self.shocks?.twin();
+        (s.under_way() > nf_twin::Shocks::MAX_UNDER_WAY).then(|| {
+            format!(
+                "[shocks]: {} bursts per hour of {} s are {:.0} under way at once, more than {}: that is a Gaussian wander, not shocks",
+                s.per_hour,
+                s.duration_s,
+                s.under_way(),
+                nf_twin::Shocks::MAX_UNDER_WAY
+            )
+        })
     }
 
     fn order(&self) -> Result<Order, nf_model::order::OrderError> {
@@ -247,17 +257,6 @@ impl InstrumentFile {
             ..RunConfig::default()
         }
     }
-}
-
-/// Why shocks this dense are refused.
-pub fn shocks_too_dense(s: nf_twin::Shocks) -> String {
-    format!(
-        "[shocks]: {} bursts per hour of {} s are {:.0} under way at once, more than {}: that is a Gaussian wander, not shocks",
-        s.per_hour,
-        s.duration_s,
-        s.under_way(),
-        nf_twin::Shocks::MAX_UNDER_WAY
-    )
 }
 
 #[cfg(test)]
