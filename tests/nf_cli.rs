@@ -251,7 +251,7 @@ fn fit_of_a_bad_recording_names_the_line() {
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,1\n2,3,180,1\n3,4,270,1\n").unwrap();
     let (code, _, err) = nf(&["fit", &bad, "--tilt", "exact"]);
     assert_eq!(code, 1);
-    assert!(err.contains("needs tilt_x_deg and tilt_y_deg"), "{err}");
+    assert!(err.contains("needs inclinometer readings"), "{err}");
     let (code, _, _) = nf(&["fit", &bad, "--plot", &tmp("x.gif")]);
     assert_ne!(code, 0);
 }

@@ -1,14 +1,16 @@
 //! The one tilt path of `nf fit` and `nf diagnose`: the vertical Earth rate a tilted shaft adds
-//! to each position, from the inclinometer. With both columns, the exact model of the tilt
-//! circle, iterated with the fitted azimuth and scale to convergence; with `tilt_x_deg` alone,
-//! first order per position. Positions without a reading are bridged by the circle fitted to
-//! the readings there are.
+//! to each position, from the inclinometer. The exact model of the tilt circle, fitted to the
+//! readings there are (both columns, or either alone: over a turn one axis draws the whole
+//! circle), iterated with the fitted azimuth and scale to convergence; first order per position
+//! from `tilt_x_deg` on request. Positions without a reading are bridged by the circle.
 
 use crate::analysis::{TiltMethod, exact_tilt_correction};
+use crate::linfit;
 use crate::recording::Recording;
+use nf_model::angle::atan2_deg;
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
-use nf_model::level::{ShaftTilt, TiltReading, fit_tilt};
+use nf_model::level::ShaftTilt;
 
 /// Iterations of the exact correction before it counts as not converging.
 const MAX_ITERATIONS: u32 = 50;
@@ -29,22 +31,92 @@ pub struct Tilt {
     pub iterations: u32,
 }
 
-/// The method a recording allows: exact with both columns on three positions or more, first
-/// order with `tilt_x_deg` alone, else none.
+/// The method a recording allows: exact with readings of either axis on three positions or
+/// more, else none.
 pub fn auto_method(rec: &Recording) -> TiltMethod {
-    let xy = rec
-        .rows
-        .iter()
-        .filter(|r| r.tilt_x_deg.is_some() && r.tilt_y_deg.is_some())
-        .count();
-    let x = rec.rows.iter().filter(|r| r.tilt_x_deg.is_some()).count();
-    if xy >= 3 {
+    if readings(rec).len() >= 3 {
         TiltMethod::Exact
-    } else if x >= 3 {
-        TiltMethod::FirstOrder
     } else {
         TiltMethod::None
     }
+}
+
+/// One axis's reading at an angle: `y` for the Y axis.
+struct Reading {
+    gamma_deg: f64,
+    deg: f64,
+    y: bool,
+}
+
+fn readings(rec: &Recording) -> Vec<Reading> {
+    let at = |r: &crate::recording::Row, v: Option<f64>, y: bool| {
+        v.map(|deg| Reading {
+            gamma_deg: r.encoder_deg,
+            deg,
+            y,
+        })
+    };
+    rec.rows
+        .iter()
+        .flat_map(|r| [at(r, r.tilt_x_deg, false), at(r, r.tilt_y_deg, true)])
+        .flatten()
+        .collect()
+}
+
+/// The tilt circle from the readings there are, by the model of `nf_model::level::fit_tilt`:
+/// `sin x = cx + a cos(gamma) + b sin(gamma)`, `sin y = cy - a sin(gamma) + b cos(gamma)`, a
+/// mounting offset for each axis read (NaN for an axis never read).
+fn circle(rec: &Recording) -> Result<ShaftTilt<f64>, String> {
+    let r = readings(rec);
+    if r.len() < 3 {
+        return Err(format!(
+            "the exact tilt correction needs inclinometer readings (tilt_x_deg, tilt_y_deg or both) on three positions or more, the recording has {}",
+            r.len()
+        ));
+    }
+    let (has_x, has_y) = (r.iter().any(|r| !r.y), r.iter().any(|r| r.y));
+    let mut cols: Vec<Vec<f64>> = Vec::new();
+    if has_x {
+        cols.push(r.iter().map(|r| if r.y { 0.0 } else { 1.0 }).collect());
+    }
+    if has_y {
+        cols.push(r.iter().map(|r| if r.y { 1.0 } else { 0.0 }).collect());
+    }
+    let (s, c): (Vec<f64>, Vec<f64>) = r.iter().map(|r| r.gamma_deg.to_radians().sin_cos()).unzip();
+    cols.push((0..r.len()).map(|i| if r[i].y { -s[i] } else { c[i] }).collect());
+    cols.push((0..r.len()).map(|i| if r[i].y { c[i] } else { s[i] }).collect());
+    let sines: Vec<f64> = r.iter().map(|r| r.deg.to_radians().sin()).collect();
+    let ls = linfit::fit(&cols, &sines).ok_or_else(|| {
+        format!(
+            "the inclinometer's {} readings do not determine the tilt circle",
+            r.len()
+        )
+    })?;
+    let k = cols.len();
+    let (a, b) = (ls.coef[k - 2], ls.coef[k - 1]);
+    let offsets = |i: Option<usize>| i.map_or(f64::NAN, |i| ls.coef[i]);
+    let (cx, cy) = (
+        offsets(has_x.then_some(0)),
+        offsets(has_y.then_some(usize::from(has_x))),
+    );
+    // sin^2(eta) from c = sin(o) cos(eta) and r = cos(o) sin(eta): the smaller root.
+    let c0 = if has_x { cx } else { cy };
+    let rr = a * a + b * b;
+    let q = 1.0 + rr - c0 * c0;
+    let s2 = (2.0 * rr / (q + (q * q - 4.0 * rr).max(0.0).sqrt())).min(1.0);
+    let ceta = (1.0 - s2).sqrt();
+    let off = |v: f64| (v / ceta).clamp(-1.0, 1.0).asin().to_degrees();
+    Ok(ShaftTilt {
+        tilt_deg: s2.sqrt().asin().to_degrees(),
+        tilt_dir_deg: atan2_deg(-b, -a),
+        offset_x_deg: off(cx),
+        offset_y_deg: off(cy),
+        rms_deg: if ls.dof > 0 {
+            ls.s2().sqrt().asin().to_degrees()
+        } else {
+            0.0
+        },
+    })
 }
 
 /// The corrections by `method`. `fit` gives the azimuth (deg) and amplitude (deg/h) of the
@@ -75,24 +147,12 @@ pub fn correct(
             })
         }
         TiltMethod::Exact => {
-            let readings: Vec<TiltReading<f64>> = rec
+            let t = circle(rec)?;
+            let bridged = rec
                 .rows
                 .iter()
-                .filter_map(|r| {
-                    Some(TiltReading {
-                        gamma_deg: r.encoder_deg,
-                        x_deg: r.tilt_x_deg?,
-                        y_deg: r.tilt_y_deg?,
-                    })
-                })
-                .collect();
-            if readings.len() < 3 {
-                return Err(format!(
-                    "the exact tilt correction needs tilt_x_deg and tilt_y_deg on three positions or more, the recording has {}",
-                    readings.len()
-                ));
-            }
-            let t = fit_tilt(&readings).map_err(|e| format!("the tilt circle fit failed: {e}"))?;
+                .filter(|r| r.tilt_x_deg.is_none() && r.tilt_y_deg.is_none())
+                .count();
             // Start from first order (the circle's X at each position), then solve the exact
             // model with the fitted azimuth and scale.
             let corr: Vec<f64> = gammas
@@ -115,7 +175,7 @@ pub fn correct(
                     return Ok(Tilt {
                         corrections: c,
                         shaft: Some(t),
-                        bridged: n - readings.len(),
+                        bridged,
                         iterations: k,
                         ..none
                     });

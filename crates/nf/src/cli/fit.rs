@@ -189,9 +189,14 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     match (an.method, an.shaft) {
         (TiltMethod::Exact, Some(s)) => writeln!(
             out,
-            "tilt           corrected with the exact model, iterated to convergence: shaft tilt {:.4} deg towards {:.1} deg (from {} X/Y readings)",
+            "tilt           corrected with the exact model, iterated to convergence: shaft tilt {:.4} deg towards {:.1} deg (the inclinometer's {} on {} positions)",
             s.tilt_deg,
             s.tilt_dir_deg,
+            match (s.offset_x_deg.is_finite(), s.offset_y_deg.is_finite()) {
+                (true, true) => "X and Y",
+                (true, false) => "X alone",
+                _ => "Y alone",
+            },
             rec.rows.len() - an.tilt_bridged
         )?,
         (TiltMethod::FirstOrder, _) => {

@@ -38,19 +38,27 @@ impl ShaftTilt {
                 .filter_map(|r| Some((r.encoder_deg, if y { r.tilt_y_deg? } else { r.tilt_x_deg? })))
                 .collect()
         };
-        let axes = match method {
+        // The axes read over enough of the turn to draw a circle.
+        let axes: Vec<Vec<(f64, f64)>> = match method {
             TiltMethod::Exact => vec![column(false), column(true)],
             _ => vec![column(false)],
-        };
+        }
+        .into_iter()
+        .filter(|a| a.len() >= 3)
+        .collect();
         let mut parameters = Vec::new();
         if let Some(s) = t.shaft {
             let sigma_tilt = s.rms_deg * (2.0 / (rec.rows.len() - t.bridged) as f64).sqrt();
             parameters.extend([
                 param("tilt_deg", s.tilt_deg, Some(sigma_tilt)),
                 param("tilt_dir_deg", s.tilt_dir_deg, None),
-                param("offset_x_deg", s.offset_x_deg, None),
-                param("offset_y_deg", s.offset_y_deg, None),
             ]);
+            // An axis never read has no offset to report.
+            for (name, v) in [("offset_x_deg", s.offset_x_deg), ("offset_y_deg", s.offset_y_deg)] {
+                if v.is_finite() {
+                    parameters.push(param(name, v, None));
+                }
+            }
         }
         Ok(Some(ShaftTilt {
             p: circle_p(&axes),

@@ -39,8 +39,15 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
         Kind::ShaftTilt => {
             file.shaft.tilt_deg = v("tilt_deg");
             file.shaft.tilt_dir_deg = v("tilt_dir_deg");
-            file.inclinometer.offset_x_deg = v("offset_x_deg");
-            file.inclinometer.offset_y_deg = v("offset_y_deg");
+            // An axis the recording never read keeps the file's offset.
+            for (name, o) in [
+                ("offset_x_deg", &mut file.inclinometer.offset_x_deg),
+                ("offset_y_deg", &mut file.inclinometer.offset_y_deg),
+            ] {
+                if let Some(x) = param(&p.found, name) {
+                    *o = x.value;
+                }
+            }
         }
         Kind::EncoderError => {
             let h = v("harmonic") as u8;
