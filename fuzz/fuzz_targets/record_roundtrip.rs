@@ -14,13 +14,6 @@ use nf_model::dwell::Calibration;
 use nf_model::text;
 use std::fmt::Write;
 
-/// A dwell's rate as the run computes it: a sum of 24-bit counts over any number of samples.
-fn rate(u: &mut Unstructured, cal: &Calibration) -> Result<f32> {
-    let n: u32 = u.int_in_range(1..=4000)?;
-    let sum: i64 = u.int_in_range(-(1i64 << 23) * n as i64..=((1i64 << 23) - 1) * n as i64)?;
-    Ok(cal.rate_dph(sum, n))
-}
-
 /// A reading from a device: usually in range, sometimes anything an f32 holds.
 fn reading(u: &mut Unstructured, range: f32) -> Result<f32> {
     Ok(match u.int_in_range(0..=3u8)? {
@@ -41,12 +34,28 @@ fn record(u: &mut Unstructured, index: u16, t_us: u64) -> Result<(Record, f64)> 
     let enc_sum: i64 = u.int_in_range(-3 * enc_n..=3 * enc_n)?;
     let num = target * enc_n + enc_sum;
     let angle = num as f64 / enc_n as f64 / per_turn as f64 * 360.0;
-    let quarter = |u: &mut Unstructured| -> Result<f32> { Ok(if u.ratio(1, 8)? { f32::NAN } else { rate(u, &cal)? }) };
+    // The dwell's samples in four consecutive quarters, as the run sums them: the rate and
+    // the quarters come from the same sums (the reader drops quarters that do not average to
+    // the rate; with 40 samples or more unequal quarters stay within what it allows).
+    let n: u32 = u.int_in_range(40..=4000)?;
+    let counts = [0, 1, 2, 3].map(|k| n * (k + 1) / 4 - n * k / 4);
+    let mut sums = [0i64; 4];
+    for (s, c) in sums.iter_mut().zip(counts) {
+        *s = u.int_in_range(-(1i64 << 23) * c as i64..=((1i64 << 23) - 1) * c as i64)?;
+    }
+    let mut quarters = [0f32; 4];
+    for k in 0..4 {
+        quarters[k] = if u.ratio(1, 8)? {
+            f32::NAN
+        } else {
+            cal.rate_dph(sums[k], counts[k])
+        };
+    }
     let r = Record {
         index,
         t_us,
         encoder: EncoderAngle::from_counts(num, enc_n as u32, per_turn).expect("in range"),
-        rate_dph: rate(u, &cal)?,
+        rate_dph: cal.rate_dph(sums.iter().sum(), n),
         rate_sd_dph: if u.ratio(1, 8)? {
             f32::NAN
         } else {
@@ -56,7 +65,7 @@ fn record(u: &mut Unstructured, index: u16, t_us: u64) -> Result<(Record, f64)> 
         temp_c: reading(u, 150.0)?,
         tilt_x_deg: reading(u, 10.0)?,
         tilt_y_deg: reading(u, 10.0)?,
-        quarters_dph: [quarter(u)?, quarter(u)?, quarter(u)?, quarter(u)?],
+        quarters_dph: quarters,
         missed: u.arbitrary()?,
     };
     Ok((r, angle))

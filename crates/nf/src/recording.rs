@@ -100,6 +100,8 @@ impl Recording {
                 }
             },
         };
+        head.positive_meta("dwell_s", "seconds")?;
+        head.positive_meta("sample_rate_hz", "Hz")?;
         head.require_columns(&REQUIRED)?;
         let col = |name: &str| head.col(name).expect("required column");
         let mut rows = Vec::new();
@@ -195,6 +197,7 @@ impl Recording {
             return err(0, "the recording has no positions");
         }
         in_visiting_order(&mut rows, &mut warnings)?;
+        quarters_of_their_dwells(&mut rows, &mut warnings);
         Ok(Recording {
             latitude_deg,
             meta,
@@ -262,6 +265,32 @@ fn elevation(line: usize, name: &str, v: Option<f64>, warnings: &mut Vec<Error>)
         v => v,
     }
 }
+
+/// Quarters that do not average to their row's rate are not of that dwell's samples (a cell
+/// corrupted, or written from another dwell): they are dropped, with a warning naming the line,
+/// as they would make the short-time noise they show any size. Allowed: a fifth of the
+/// quarters' own spread, which covers quarters of unequal sample counts (40 samples or more),
+/// and the rounding of six decimals. Row by row, so that what was kept reads back the same.
+fn quarters_of_their_dwells(rows: &mut [Row], warnings: &mut Vec<Error>) {
+    for r in rows.iter_mut() {
+        let Some(q) = r.quarters_dph else { continue };
+        let mean = q.iter().sum::<f64>() / 4.0;
+        let spread = q.iter().map(|v| (v - mean).abs()).fold(0.0, f64::max);
+        if (mean - r.rate_dph).abs() > QUARTER_SLACK * spread + 1e-6 * (1.0 + r.rate_dph.abs()) {
+            warnings.push(Error {
+                line: r.line,
+                what: format!(
+                    "q1_dph..q4_dph average {mean} deg/h where rate_dph is {} deg/h: not this dwell's quarters, not used",
+                    r.rate_dph
+                ),
+            });
+            r.quarters_dph = None;
+        }
+    }
+}
+
+/// How far, in their spread, a row's quarters may average from its rate.
+const QUARTER_SLACK: f64 = 0.2;
 
 /// The rows in visiting order: by `index`, the visit number, when the file has them in
 /// another order (with a warning), and `t_s` must then increase, since a later visit cannot

@@ -84,6 +84,7 @@ impl StaticLog {
         let head = Head::parse(text)?;
         head.require_format(text, FORMAT)?;
         head.known(&["format", "sample_rate_hz"], &["t_s", "rate_dph", "temp_c"])?;
+        head.positive_meta("sample_rate_hz", "Hz")?;
         head.require_columns(&["t_s", "rate_dph"])?;
         let required = |name: &str| head.col(name).expect("required column");
         let (ct, cr, ctemp) = (required("t_s"), required("rate_dph"), head.col("temp_c"));
@@ -201,6 +202,11 @@ mod tests {
                 "# format = northfinder-static/1\nt_s,rate_dph\n0,1\n1,x\n",
                 4,
                 "rate_dph 'x'",
+            ),
+            (
+                "# format = northfinder-static/1\n# sample_rate_hz = -5\nt_s,rate_dph\n0,1\n",
+                2,
+                "sample_rate_hz '-5' is not a positive number of Hz",
             ),
             (
                 "# format = northfinder-static/1\nt_s,rate_dph\n0,1\n1,inf\n",

@@ -167,6 +167,21 @@ impl<'a> Head<'a> {
         self.meta_at.get(key).copied().unwrap_or(0)
     }
 
+    /// Optional metadata a reader uses as a quantity: a positive number, or an error at its
+    /// line (never ignored).
+    pub fn positive_meta(&self, key: &str, unit: &str) -> Result<Option<f64>, Error> {
+        match self.meta.get(key) {
+            None => Ok(None),
+            Some(v) => match v.parse::<f64>() {
+                Ok(x) if x.is_finite() && x > 0.0 => Ok(Some(x)),
+                _ => err(
+                    self.meta_line(key),
+                    format!("{key} '{v}' is not a positive number of {unit}"),
+                ),
+            },
+        }
+    }
+
     /// The `format` metadata must be `want`.
     pub fn require_format(&self, text: &str, want: &str) -> Result<(), Error> {
         match self.meta.get("format").map(String::as_str) {

@@ -82,19 +82,23 @@ fn what_the_firmware_writes_the_host_reads_back() {
             } else {
                 (rng.next_u64() % (per_turn * den as u64)) as i64
             };
+            // The required rate always has a value: counts times a scale. Its quarters
+            // average to it (the reader drops quarters that do not).
+            let rate = rng.uniform(-100.0, 100.0);
+            let d = [0; 4].map(|_| rng.uniform(-1.0, 1.0));
+            let m = d.iter().sum::<f64>() / 4.0;
             let r = Record {
                 index,
                 t_us,
                 encoder: EncoderAngle::from_counts(num, den, per_turn).unwrap(),
-                // The required rate always has a value: counts times a scale.
-                rate_dph: rng.uniform(-100.0, 100.0) as f32,
+                rate_dph: rate as f32,
                 // A spread is never negative (NaN for a dwell of one sample).
                 rate_sd_dph: value(&mut rng, 1.0).abs(),
                 samples: rng.next_u64() as u32,
                 temp_c: value(&mut rng, 125.0),
                 tilt_x_deg: value(&mut rng, 10.0),
                 tilt_y_deg: value(&mut rng, 10.0),
-                quarters_dph: [0; 4].map(|_| rng.uniform(-100.0, 100.0) as f32),
+                quarters_dph: d.map(|d| (rate + d - m) as f32),
                 missed: rng.next_u64() as u32,
             };
             text += &r.line();

@@ -41,7 +41,7 @@ fn any_column_order_extra_columns_quotes_and_crlf() {
 
 #[test]
 fn empty_or_nan_optional_cells_are_missing_values() {
-    let text = "# format = northfinder-recording/1\n# latitude_deg = 10\nindex,t_s,encoder_deg,rate_dph,temp_c,q1_dph,q2_dph,q3_dph,q4_dph\n0,1,0,1,,1,2,3,4\n1,2,90,1,NaN,1,2,,4\n";
+    let text = "# format = northfinder-recording/1\n# latitude_deg = 10\nindex,t_s,encoder_deg,rate_dph,temp_c,q1_dph,q2_dph,q3_dph,q4_dph\n0,1,0,2.5,,1,2,3,4\n1,2,90,1,NaN,1,2,,4\n";
     let r = Recording::parse(text).unwrap();
     assert_eq!(r.rows[0].temp_c, None);
     assert_eq!(r.rows[0].quarters_dph, Some([1.0, 2.0, 3.0, 4.0]));
@@ -178,6 +178,41 @@ fn a_tilt_beyond_90_deg_is_no_reading_and_a_warning() {
         said[1].starts_with("line 5: tilt_x_deg 95 is not an elevation"),
         "{said:?}"
     );
+}
+
+#[test]
+fn a_malformed_dwell_or_sample_rate_is_an_error_at_its_line() {
+    for (key, v) in [
+        ("dwell_s", "abc"),
+        ("dwell_s", "-2"),
+        ("dwell_s", "0"),
+        ("dwell_s", "inf"),
+        ("sample_rate_hz", "fast"),
+    ] {
+        let (line, msg) = error(&format!(
+            "# format = northfinder-recording/1\n# latitude_deg = 1\n# {key} = {v}\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n"
+        ));
+        assert_eq!(line, 3, "{msg}");
+        assert!(msg.contains(&format!("{key} '{v}' is not a positive number")), "{msg}");
+    }
+}
+
+#[test]
+fn quarters_that_do_not_average_to_their_rate_are_dropped_with_a_warning() {
+    let head = "# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n";
+    // Row 1: one quarter corrupted by 5 deg/h while the rate stayed. Row 2: quarters of unequal
+    // sample counts (3, 4, 3, 4 of 14), whose plain mean is a little off the rate.
+    let q = [1.01, 0.99, 1.02, 0.98];
+    let weighted = (3.0 * q[0] + 4.0 * q[1] + 3.0 * q[2] + 4.0 * q[3]) / 14.0;
+    let text = format!(
+        "{head}0,1,0,1,1.01,0.99,1.02,0.98\n1,2,90,1,1.01,0.99,6.02,0.98\n2,3,180,{weighted},1.01,0.99,1.02,0.98\n"
+    );
+    let r = Recording::parse(&text).unwrap();
+    let kept: Vec<bool> = r.rows.iter().map(|r| r.quarters_dph.is_some()).collect();
+    assert_eq!(kept, [true, false, true]);
+    let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(said[0].starts_with("line 5: q1_dph..q4_dph average"), "{said:?}");
 }
 
 #[test]
