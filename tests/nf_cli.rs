@@ -254,6 +254,39 @@ fn fit_of_a_bad_recording_names_the_line() {
     assert!(err.contains("needs inclinometer readings"), "{err}");
     let (code, _, _) = nf(&["fit", &bad, "--plot", &tmp("x.gif")]);
     assert_ne!(code, 0);
+    // Four angles three times: a second harmonic's sine is zero at all of them.
+    let mut text =
+        String::from("# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n");
+    for k in 0..12 {
+        text += &format!("{k},{},{},{}\n", k + 1, 90 * (k % 4), [1.0, 2.0, 1.5, 0.5][k % 4]);
+    }
+    std::fs::write(&bad, text).unwrap();
+    let (code, _, err) = nf(&["fit", &bad, "--harmonics", "2"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("do not determine the fit's term sin(2 gamma)"), "{err}");
+}
+
+#[test]
+fn an_azimuth_next_to_north_prints_as_zero_not_360_or_minus_zero() {
+    let h = 15.041 * 40f64.to_radians().cos();
+    for psi in [0.0, 359.9999999, 1e-9] {
+        let mut text =
+            String::from("# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n");
+        for k in 0..12 {
+            let g = 30.0 * k as f64;
+            text += &format!("{k},{},{g},{}\n", k + 1, 2.0 + h * (g + psi).to_radians().cos());
+        }
+        let file = tmp("north.csv");
+        std::fs::write(&file, text).unwrap();
+        let (code, out, err) = nf(&["fit", &file]);
+        assert_eq!(code, 0, "{err}");
+        for line in out
+            .lines()
+            .filter(|l| l.starts_with("azimuth psi") || l.starts_with("surveying az."))
+        {
+            assert!(line.contains(" 0.00000 deg"), "psi {psi}: {line}");
+        }
+    }
 }
 
 #[test]

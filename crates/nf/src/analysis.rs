@@ -225,8 +225,27 @@ fn plain(cfg: FitConfig<f64>, rec: &Recording, corr: &[f64], kept: &[usize]) -> 
         FitError::NonFinite { index } | FitError::BadWeight { index } | FitError::MissingTilt { index } => {
             format!("line {}: {e}", rec.rows[kept[index as usize]].line)
         }
+        FitError::Singular { column } => format!(
+            "the positions do not determine the fit's term {}: fit fewer terms (--harmonics, --drift) or visit more angles",
+            term_name(&cfg, column)
+        ),
         e => format!("the fit failed: {e}"),
     })
+}
+
+/// The fit's term in column `k` of `nf_model::fit::design_row`.
+fn term_name(cfg: &FitConfig<f64>, k: u8) -> String {
+    let mut names = vec!["C (the bias)".to_string(), "cos(gamma)".into(), "sin(gamma)".into()];
+    if cfg.drift != Drift::None {
+        names.push("t (linear drift)".into());
+    }
+    if cfg.drift == Drift::Quadratic {
+        names.push("t^2 (quadratic drift)".into());
+    }
+    for h in 2..=cfg.harmonics {
+        names.extend([format!("cos({h} gamma)"), format!("sin({h} gamma)")]);
+    }
+    names.get(k as usize).cloned().unwrap_or_else(|| format!("number {k}"))
 }
 
 /// The items not at the indices `out`.

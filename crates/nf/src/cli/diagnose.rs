@@ -1,7 +1,7 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
 use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
-use super::{Fail, diagnose_sim, read_recording, write_out};
+use super::{Fail, angle5, diagnose_sim, read_recording, write_out};
 use crate::diagnose::{Diagnosis, Options, Point, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
 use crate::instrument_file::InstrumentFile;
@@ -146,8 +146,8 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
     if let Some(report) = &a.report {
         let names: Vec<&str> = d.findings.iter().map(|f| f.effect.name()).collect();
         let headline = format!(
-            "final psi {:.5} deg +- {:.2}\"; findings: {}",
-            d.final_.azimuth_deg,
+            "final psi {} deg +- {:.2}\"; findings: {}",
+            angle5(d.final_.azimuth_deg),
             d.final_.sigma_arcsec,
             if names.is_empty() {
                 "none".to_string()
@@ -232,8 +232,9 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     )?;
     writeln!(
         out,
-        "baseline (Eq. 7, level ideal instrument): psi {:.5} deg +- {:.2}\"",
-        b.azimuth_deg, b.sigma_arcsec
+        "baseline (Eq. 7, level ideal instrument): psi {} deg +- {:.2}\"",
+        angle5(b.azimuth_deg),
+        b.sigma_arcsec
     )?;
     if d.findings.iter().all(|f| f.effect.is_noise()) {
         writeln!(
@@ -260,8 +261,8 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         if !f.effect.is_noise() {
             writeln!(
                 out,
-                "     with it: psi {:.5} deg +- {:.2}\" ({:+.2}\" from the baseline)",
-                f.after.azimuth_deg,
+                "     with it: psi {} deg +- {:.2}\" ({:+.2}\" from the baseline)",
+                angle5(f.after.azimuth_deg),
                 f.after.sigma_arcsec,
                 nf_model::angle::wrap_180(f.after.azimuth_deg - b.azimuth_deg) * 3600.0
             )?;
@@ -270,13 +271,15 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     let (s, fz) = (d.selected, d.final_);
     writeln!(
         out,
-        "selected model: psi {:.5} deg +- {:.2}\"",
-        s.azimuth_deg, s.sigma_arcsec
+        "selected model: psi {} deg +- {:.2}\"",
+        angle5(s.azimuth_deg),
+        s.sigma_arcsec
     )?;
     writeln!(
         out,
-        "final: psi {:.5} deg +- {:.2}\" (the models met, averaged by their weights)",
-        fz.azimuth_deg, fz.sigma_arcsec
+        "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights)",
+        angle5(fz.azimuth_deg),
+        fz.sigma_arcsec
     )?;
     for n in &d.notes {
         writeln!(out, "note: {n}")?;

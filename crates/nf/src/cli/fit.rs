@@ -1,7 +1,7 @@
 //! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
 
 use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
-use super::{Fail, read_recording};
+use super::{Fail, angle5, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_calib;
 use crate::noise_fit::{NoiseChoice, NoiseSource};
@@ -132,13 +132,13 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     } else {
         writeln!(
             out,
-            "azimuth psi    {:.5} deg  (Eq. 7: rate = WE cos(lat) cos(gamma + psi))",
-            g.psi_deg
+            "azimuth psi    {} deg  (Eq. 7: rate = WE cos(lat) cos(gamma + psi))",
+            angle5(g.psi_deg)
         )?;
         writeln!(
             out,
-            "surveying az.  {:.5} deg  (clockwise from true north, of the gamma = 0 direction)",
-            surveying_azimuth_deg(g.psi_deg)
+            "surveying az.  {} deg  (clockwise from true north, of the gamma = 0 direction)",
+            angle5(surveying_azimuth_deg(g.psi_deg))
         )?;
         writeln!(
             out,

@@ -62,6 +62,15 @@ macro_rules! note {
 }
 pub(crate) use note;
 
+/// An angle in [0, 360) to five decimals as a reader expects it: never "-0.00000", and 0 where
+/// it would round up to "360.00000".
+pub(crate) fn angle5(deg: f64) -> String {
+    match format!("{:.5}", deg + 0.0).as_str() {
+        "360.00000" | "-0.00000" => "0.00000".into(),
+        s => s.into(),
+    }
+}
+
 /// A failure to report: the message and the exit code. Code 0 is not a failure: the reader of
 /// standard output closed it (`nf paper | head`), so the command stops and exits quietly.
 pub(crate) struct Fail(pub String, pub u8);

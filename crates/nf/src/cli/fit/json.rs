@@ -130,7 +130,8 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
     FitJson {
         amplitude_dph: g.amplitude_dph,
         amplitude_predicted_dph: an.amplitude_predicted_dph,
-        azimuth_deg: g.psi_deg,
+        // + 0.0: a -0.0 azimuth reads as a sign error.
+        azimuth_deg: g.psi_deg + 0.0,
         budget_eq31_paper: (&an.budget_paper).into(),
         budget_exact: (&an.budget_exact).into(),
         dof: f.dof,
@@ -182,7 +183,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
         sigma_amplitude_dph: g.sigma_amplitude_dph,
         sigma_arcsec: g.sigma_psi_deg * 3600.0,
         sigma_gyro_dph: an.sigma_gyro_dph,
-        surveying_azimuth_deg: surveying_azimuth_deg(g.psi_deg),
+        surveying_azimuth_deg: surveying_azimuth_deg(g.psi_deg) + 0.0,
         tilt_bridged_positions: an.tilt_bridged,
         tilt_correction: an.method.name(),
     }
