@@ -100,7 +100,7 @@ impl Recording {
                 }
             },
         };
-        head.positive_meta("dwell_s", "seconds")?;
+        let dwell_s = head.positive_meta("dwell_s", "seconds")?;
         head.positive_meta("sample_rate_hz", "Hz")?;
         head.require_columns(&REQUIRED)?;
         let col = |name: &str| head.col(name).expect("required column");
@@ -198,6 +198,9 @@ impl Recording {
         }
         in_visiting_order(&mut rows, &mut warnings)?;
         quarters_of_their_dwells(&mut rows, &mut warnings);
+        if let Some(d) = dwell_s {
+            dwells_apart(&rows, d, head.meta_line("dwell_s"), &mut warnings);
+        }
         Ok(Recording {
             latitude_deg,
             meta,
@@ -286,6 +289,28 @@ fn quarters_of_their_dwells(rows: &mut [Row], warnings: &mut Vec<Error>) {
             });
             r.quarters_dph = None;
         }
+    }
+}
+
+/// Dwells of `dwell_s` whose centres are closer than that overlap, which a stepped run cannot
+/// do (it moves and settles between them): said once, at the metadata's line; the length is
+/// taken as given.
+fn dwells_apart(rows: &[Row], dwell_s: f64, line: usize, warnings: &mut Vec<Error>) {
+    let closest = rows
+        .windows(2)
+        .min_by(|a, b| (a[1].t_s - a[0].t_s).total_cmp(&(b[1].t_s - b[0].t_s)));
+    if let Some([a, b]) = closest
+        && b.t_s - a.t_s < dwell_s * (1.0 - 1e-9)
+    {
+        warnings.push(Error {
+            line,
+            what: format!(
+                "dwell_s {dwell_s} s is longer than the {} s between the centres of lines {} and {}: the dwells would overlap; taken as given",
+                b.t_s - a.t_s,
+                a.line,
+                b.line
+            ),
+        });
     }
 }
 

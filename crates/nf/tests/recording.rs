@@ -198,6 +198,19 @@ fn a_malformed_dwell_or_sample_rate_is_an_error_at_its_line() {
 }
 
 #[test]
+fn dwells_longer_than_their_spacing_are_a_warning() {
+    let text = "# format = northfinder-recording/1\n# latitude_deg = 1\n# dwell_s = 2.5\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,4,90,1\n2,6,180,1\n";
+    let r = Recording::parse(text).unwrap();
+    let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(
+        said[0].starts_with("line 3: dwell_s 2.5 s is longer than the 2 s between the centres of lines 6 and 7"),
+        "{said:?}"
+    );
+    assert!(Recording::parse(&text.replace("2.5", "2")).unwrap().warnings.is_empty());
+}
+
+#[test]
 fn quarters_that_do_not_average_to_their_rate_are_dropped_with_a_warning() {
     let head = "# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n";
     // Row 1: one quarter corrupted by 5 deg/h while the rate stayed. Row 2: quarters of unequal
