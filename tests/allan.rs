@@ -167,6 +167,49 @@ fn overlapping_adev_matches_allantools() {
 }
 
 #[test]
+fn a_term_s_significance_is_its_coefficient_s_not_its_size_s() {
+    // White noise and a random walk, no flicker: B's size may stand some sigmas from zero
+    // while its Allan variance coefficient is within noise of it.
+    let truth = NoiseModel {
+        arw_deg_rth: 0.002,
+        rrw_dph_rth: 0.05,
+        ..NoiseModel::WHITE_NONE
+    };
+    let mut flagged = 0;
+    for seed in 1..=5 {
+        let log = tmp(&format!("no_flicker_{seed}.csv"));
+        twin_log(truth, 10.0, 4.0, seed)
+            .write(&mut std::fs::File::create(&log).unwrap())
+            .unwrap();
+        let (_, f) = fit_twin(truth, 10.0, 4.0, seed);
+        let (code, out, err) = nf(&["allan", &log, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+        for (key, term) in [("bias_instability_z", Term::BiasInstability), ("rrw_z", Term::Rrw)] {
+            let p = f.param(term).unwrap();
+            let z = j[key].as_f64().unwrap();
+            assert!(
+                (z - p.coef / p.coef_sd).abs() < 1e-6 * (1.0 + z.abs()),
+                "seed {seed}: {key} {z} vs {p:?}"
+            );
+        }
+        println!("seed {seed}: B z {}, K z {}", j["bias_instability_z"], j["rrw_z"]);
+        let b = f.param(Term::BiasInstability).unwrap();
+        let (_, text, _) = nf(&["allan", &log]);
+        let said = text
+            .lines()
+            .any(|l| l.starts_with("B (bias instability)") && l.contains("not significant"));
+        assert_eq!(
+            said,
+            b.value > 0.0 && b.consistent_with_zero(2.0),
+            "seed {seed}: {text}"
+        );
+        flagged += usize::from(j["bias_instability_z"].as_f64().unwrap() > 2.0);
+    }
+    assert!(flagged <= 2, "B significant in {flagged} of 5 logs without flicker");
+}
+
+#[test]
 fn cli_json_plot_and_the_noise_file_round_trip() {
     let truth = NoiseModel {
         arw_deg_rth: 0.002,

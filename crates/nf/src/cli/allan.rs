@@ -195,6 +195,14 @@ impl Report<'_> {
         }
         for (term, label, unit) in TERMS {
             let line = match fit.param(term) {
+                // The sigma maps the variance coefficient's up through the square root: a
+                // size some sigmas from zero can be a coefficient within noise of zero.
+                Some(p) if p.value > 0.0 && p.consistent_with_zero(2.0) => format!(
+                    "{} +- {} {unit} (not significant: its Allan variance coefficient is {:.1} sd from zero)",
+                    g(p.value),
+                    g(p.sigma),
+                    p.coef / p.coef_sd
+                ),
                 Some(p) if p.value > 0.0 => format!("{} +- {} {unit}", g(p.value), g(p.sigma)),
                 Some(p) => format!("0 (1-sigma bound {} {unit})", g(p.sigma)),
                 None => match fit.q_test {

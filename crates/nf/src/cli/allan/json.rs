@@ -25,6 +25,10 @@ pub(super) struct AllanJson<'a> {
     bias_instability_dph: f64,
     /// 1-sigma uncertainty of B, deg/h; null when the term was dropped.
     bias_instability_dph_sigma: Option<f64>,
+    /// B's Allan variance coefficient over its standard deviation: B is significant from
+    /// about 2 on. (Its sigma maps the coefficient's up through the square root, so a small B
+    /// can stand several sigmas from zero while its coefficient is within noise of zero.)
+    bias_instability_z: Option<f64>,
     /// Probability content of each point's interval (0.683: one sigma).
     ci_level: f64,
     /// The overlapping Allan deviation, one entry per averaging time.
@@ -57,6 +61,8 @@ pub(super) struct AllanJson<'a> {
     rrw_dph_rth: f64,
     /// 1-sigma uncertainty of K, deg/h/sqrt(h); null when the term was dropped.
     rrw_dph_rth_sigma: Option<f64>,
+    /// K's Allan variance coefficient over its standard deviation, as `bias_instability_z`.
+    rrw_z: Option<f64>,
     /// What was read.
     source: Source<'a>,
     /// The tests of the optional terms.
@@ -174,6 +180,7 @@ impl<'a> Report<'a> {
     pub(super) fn json(&self) -> AllanJson<'a> {
         let (src, fit) = (self.src, self.fit);
         let term = |t| term(fit.param(t));
+        let z = |t| fit.param(t).map(|p| p.coef / p.coef_sd);
         let (arw, bi, rrw, q) = (
             term(Term::Arw),
             term(Term::BiasInstability),
@@ -188,6 +195,7 @@ impl<'a> Report<'a> {
             arw_deg_rth_sigma: arw.1,
             bias_instability_dph: bi.0,
             bias_instability_dph_sigma: bi.1,
+            bias_instability_z: z(Term::BiasInstability),
             ci_level: CI_LEVEL,
             curve: self
                 .rows()
@@ -217,6 +225,7 @@ impl<'a> Report<'a> {
             quantization_arcsec_sigma: q.1,
             rrw_dph_rth: rrw.0,
             rrw_dph_rth_sigma: rrw.1,
+            rrw_z: z(Term::Rrw),
             source: self.source(),
             tests: Tests {
                 alpha: ALPHA,
