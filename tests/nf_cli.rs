@@ -267,6 +267,29 @@ fn fit_of_a_bad_recording_names_the_line() {
 }
 
 #[test]
+fn warnings_repeated_on_every_line_are_counted_past_ten() {
+    let h = 15.041 * 40f64.to_radians().cos();
+    let mut text = String::from(
+        "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n",
+    );
+    // Quarters written in another unit (deg/s): none averages to its rate.
+    for k in 0..12 {
+        let g = 30.0 * k as f64;
+        let r = 2.0 + h * g.to_radians().cos() + 0.01 * (k % 3) as f64;
+        let q = r / 3600.0;
+        text += &format!("{k},{},{g},{r},{q},{q},{q},{q}\n", 3 * k + 1);
+    }
+    let file = tmp("quarters_in_deg_per_s.csv");
+    std::fs::write(&file, text).unwrap();
+    let (code, _, err) = nf(&["fit", &file]);
+    assert_eq!(code, 0, "{err}");
+    let said: Vec<&str> = err.lines().filter(|l| l.starts_with("nf: warning:")).collect();
+    assert_eq!(said.len(), 11, "{err}");
+    assert!(said[0].contains(":4: q1_dph..q4_dph average"), "{err}");
+    assert!(said[10].ends_with("2 more warnings like these"), "{err}");
+}
+
+#[test]
 fn an_azimuth_next_to_north_prints_as_zero_not_360_or_minus_zero() {
     let h = 15.041 * 40f64.to_radians().cos();
     for psi in [0.0, 359.9999999, 1e-9] {

@@ -117,10 +117,17 @@ pub fn main() -> ExitCode {
 
 /// Reads a recording: a bad one is an error naming the line (exit code 2); what the reader
 /// accepted with a warning goes to standard error.
+/// A recording's warnings printed one by one, at most: a writer's systematic fault would
+/// repeat one on every line.
+const WARNINGS_SHOWN: usize = 10;
+
 pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
     let rec = Recording::read(path).map_err(|e| Fail(e.to_string(), 2))?;
-    for w in &rec.warnings {
+    for w in rec.warnings.iter().take(WARNINGS_SHOWN) {
         note!("nf: warning: {}", w.at(path));
+    }
+    if let Some(more) = rec.warnings.len().checked_sub(WARNINGS_SHOWN).filter(|m| *m > 0) {
+        note!("nf: warning: {path}: {more} more warnings like these");
     }
     Ok(rec)
 }
