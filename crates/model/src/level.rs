@@ -46,15 +46,6 @@ pub fn fit_tilt<F: Float>(readings: &[TiltReading<F>]) -> Result<ShaftTilt<F>, F
     }
     let sol = lsq.solve()?;
     let [cx, cy, a, b, ..] = sol.coef;
-    // In f32 not `libm`'s `hypotf`, which computes in f64.
-    let r = if is_f32::<F>() { hypot(a, b) } else { a.hypot(b) };
-    // sin^2(eta) from cx = sin(ox) cos(eta) and r = cos(ox) sin(eta): the smaller root.
-    let cx2 = cx * cx;
-    let q = F::one() + r * r - cx2;
-    let disc = (q * q - c::<F>(4.0) * r * r).max(F::zero());
-    let s2 = (c::<F>(2.0) * r * r / (q + sqrt(disc))).min(F::one());
-    let ceta = sqrt(F::one() - s2);
-    let off = |v: F| asin((v / ceta).max(-F::one()).min(F::one())).to_degrees();
     let dof = sol.n as i64 - 4;
     let rms = if dof > 0 {
         // Straight from the integer: no f64 on the way (soft on the M4F).
@@ -62,13 +53,34 @@ pub fn fit_tilt<F: Float>(readings: &[TiltReading<F>]) -> Result<ShaftTilt<F>, F
     } else {
         F::zero()
     };
-    Ok(ShaftTilt {
-        tilt_deg: asin(sqrt(s2)).to_degrees(),
-        tilt_dir_deg: atan2_deg(-b, -a),
-        offset_x_deg: off(cx),
-        offset_y_deg: off(cy),
-        rms_deg: rms,
-    })
+    Ok(ShaftTilt::from_circle(cx, cy, a, b, rms))
+}
+
+impl<F: Float> ShaftTilt<F> {
+    /// The tilt and the offsets from the fitted circle `sin(x) = cx + a cos(gamma) + b
+    /// sin(gamma)`, `sin(y) = cy - a sin(gamma) + b cos(gamma)`, and the fit's RMS (deg). An
+    /// axis never read has a NaN offset term: the tilt then comes from the other's.
+    pub fn from_circle(cx: F, cy: F, a: F, b: F, rms_deg: F) -> Self {
+        // In f32 not `libm`'s `hypotf`, which computes in f64.
+        let r = if is_f32::<F>() { hypot(a, b) } else { a.hypot(b) };
+        // sin^2(eta) from c = sin(o) cos(eta) and r = cos(o) sin(eta): the smaller root.
+        let c0 = if cx.is_nan() { cy } else { cx };
+        let q = F::one() + r * r - c0 * c0;
+        let disc = (q * q - c::<F>(4.0) * r * r).max(F::zero());
+        let s2 = (c::<F>(2.0) * r * r / (q + sqrt(disc))).min(F::one());
+        let ceta = sqrt(F::one() - s2);
+        let off = |v: F| match v.is_nan() {
+            true => v,
+            false => asin((v / ceta).max(-F::one()).min(F::one())).to_degrees(),
+        };
+        ShaftTilt {
+            tilt_deg: asin(sqrt(s2)).to_degrees(),
+            tilt_dir_deg: atan2_deg(-b, -a),
+            offset_x_deg: off(cx),
+            offset_y_deg: off(cy),
+            rms_deg,
+        }
+    }
 }
 
 /// The three-leg pedestal: leg positions and the knobs' thread.
@@ -174,6 +186,23 @@ mod tests {
                 "{t:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_circle_of_one_axis_keeps_the_other_offset_unknown() {
+        let both = ShaftTilt::from_circle(0.003, -0.002, -0.01, 0.02, 0.0);
+        let x_alone = ShaftTilt::from_circle(0.003, f64::NAN, -0.01, 0.02, 0.0);
+        let y_alone = ShaftTilt::from_circle(f64::NAN, -0.002, -0.01, 0.02, 0.0);
+        assert!(x_alone.offset_y_deg.is_nan() && y_alone.offset_x_deg.is_nan());
+        assert_eq!(
+            (x_alone.tilt_deg, x_alone.offset_x_deg),
+            (both.tilt_deg, both.offset_x_deg)
+        );
+        assert_eq!(x_alone.tilt_dir_deg, both.tilt_dir_deg);
+        assert!(
+            (y_alone.tilt_deg - both.tilt_deg).abs() < 1e-4 * both.tilt_deg,
+            "{y_alone:?}"
+        );
     }
 
     #[test]

@@ -7,7 +7,6 @@
 use crate::analysis::{TiltMethod, exact_tilt_correction};
 use crate::linfit;
 use crate::recording::Recording;
-use nf_model::angle::atan2_deg;
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
 use nf_model::level::ShaftTilt;
@@ -95,28 +94,18 @@ fn circle(rec: &Recording) -> Result<ShaftTilt<f64>, String> {
     let k = cols.len();
     let (a, b) = (ls.coef[k - 2], ls.coef[k - 1]);
     let offsets = |i: Option<usize>| i.map_or(f64::NAN, |i| ls.coef[i]);
-    let (cx, cy) = (
+    let rms_deg = if ls.dof > 0 {
+        ls.s2().sqrt().asin().to_degrees()
+    } else {
+        0.0
+    };
+    Ok(ShaftTilt::from_circle(
         offsets(has_x.then_some(0)),
         offsets(has_y.then_some(usize::from(has_x))),
-    );
-    // sin^2(eta) from c = sin(o) cos(eta) and r = cos(o) sin(eta): the smaller root.
-    let c0 = if has_x { cx } else { cy };
-    let rr = a * a + b * b;
-    let q = 1.0 + rr - c0 * c0;
-    let s2 = (2.0 * rr / (q + (q * q - 4.0 * rr).max(0.0).sqrt())).min(1.0);
-    let ceta = (1.0 - s2).sqrt();
-    let off = |v: f64| (v / ceta).clamp(-1.0, 1.0).asin().to_degrees();
-    Ok(ShaftTilt {
-        tilt_deg: s2.sqrt().asin().to_degrees(),
-        tilt_dir_deg: atan2_deg(-b, -a),
-        offset_x_deg: off(cx),
-        offset_y_deg: off(cy),
-        rms_deg: if ls.dof > 0 {
-            ls.s2().sqrt().asin().to_degrees()
-        } else {
-            0.0
-        },
-    })
+        a,
+        b,
+        rms_deg,
+    ))
 }
 
 /// The corrections by `method`. `fit` gives the azimuth (deg) and amplitude (deg/h) of the
