@@ -6,7 +6,8 @@
 //! 18" for the paper's gyro with flicker on a fast motor.
 //!
 //! `cargo run --release --example noise_bench -- [seeds] [filter]` (default 60 seeds; a filter
-//! keeps the noise-table rows whose noise or order name contains it, and skips the rest).
+//! keeps the noise-table rows whose noise or order name contains it, and skips the rest;
+//! `time-to-18` prints the plan table alone).
 
 use nf::analysis::{Options, analyse};
 use nf::noise_fit::NoiseChoice;
@@ -55,6 +56,10 @@ fn run_config(order: Order) -> RunConfig {
 fn main() {
     let seeds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(60);
     let filter = std::env::args().nth(2);
+    if filter.as_deref() == Some("time-to-18") {
+        time_to_18();
+        return;
+    }
     noise_table(seeds, filter.as_deref());
     if filter.is_none() {
         drift_table();

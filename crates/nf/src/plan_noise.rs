@@ -119,54 +119,24 @@ pub fn search(
     if tilt_arcsec(budget.tilt_deg, budget.latitude_deg) >= target_arcsec {
         return plan;
     }
+    let scan = Scan {
+        model,
+        budget,
+        timing,
+        target_arcsec,
+        levelling_s,
+        max_time_s: space.max_time_s,
+    };
     for order in orders {
         let mut best: Option<Candidate> = None;
         for &dwell in &space.dwells_s {
-            let tm = Timing {
-                dwell_s: dwell,
-                ..*timing
-            };
-            let mut best_here: Option<f64> = None;
-            for &n in &space.positions {
-                if order.check(n as u16).is_err() {
-                    continue;
-                }
-                let s = Schedule::new(order, n, n / 2, &tm);
-                let time = levelling_s + s.duration_s;
-                // Longer than allowed, or than a run already found: more positions only add time.
-                let bound = [best.as_ref(), plan.fastest.as_ref()]
-                    .into_iter()
-                    .flatten()
-                    .fold(space.max_time_s, |m, c| m.min(c.time_s));
-                if time > bound {
-                    break;
-                }
-                let Some(sigma) = total_arcsec(model, &s, budget) else {
-                    continue;
-                };
-                let c = Candidate {
-                    order: order.name(),
-                    n,
-                    dwell_s: dwell,
-                    time_s: time,
-                    sigma_arcsec: sigma,
-                };
-                if plan.floor.as_ref().is_none_or(|f| sigma < f.sigma_arcsec) {
-                    plan.floor = Some(c.clone());
-                }
-                let past_floor = best_here.is_some_and(|b| sigma > 1.5 * b);
-                best_here = Some(best_here.map_or(sigma, |b: f64| b.min(sigma)));
-                if sigma <= target_arcsec {
-                    if best.as_ref().is_none_or(|b| time < b.time_s) {
-                        best = Some(c);
-                    }
-                    // More positions at this dwell only take longer.
-                    break;
-                }
-                // Coloured noise: past the best run length, longer runs only get worse.
-                if past_floor {
-                    break;
-                }
+            scan.dwell(order, dwell, &space.positions, &mut best, &mut plan);
+        }
+        if let Some(coarse) = best.clone() {
+            // Between the grid's points: every number of positions at dwells around the best.
+            let every: Vec<usize> = (4..=*space.positions.iter().max().unwrap_or(&4)).collect();
+            for dwell in finer_dwells(&space.dwells_s, coarse.dwell_s) {
+                scan.dwell(order, dwell, &every, &mut best, &mut plan);
             }
         }
         if let Some(b) = best {
@@ -180,6 +150,87 @@ pub fn search(
         plan.floor = None;
     }
     plan
+}
+
+/// The fixed parts of one search.
+struct Scan<'a> {
+    model: &'a NoiseModel,
+    budget: &'a Budget,
+    timing: &'a Timing,
+    target_arcsec: f64,
+    levelling_s: f64,
+    max_time_s: f64,
+}
+
+impl Scan<'_> {
+    /// Runs of one order and dwell over `positions` (ascending), until one reaches the target,
+    /// takes longer than the best so far or is past the floor; updates `best` and the floor.
+    fn dwell(&self, order: &Order, dwell: f64, positions: &[usize], best: &mut Option<Candidate>, plan: &mut Plan) {
+        let tm = Timing {
+            dwell_s: dwell,
+            ..*self.timing
+        };
+        let mut best_here: Option<f64> = None;
+        for &n in positions {
+            if order.check(n as u16).is_err() {
+                continue;
+            }
+            let s = Schedule::new(order, n, n / 2, &tm);
+            let time = self.levelling_s + s.duration_s;
+            // Longer than allowed, or than a run already found: more positions only add time.
+            let bound = [best.as_ref(), plan.fastest.as_ref()]
+                .into_iter()
+                .flatten()
+                .fold(self.max_time_s, |m, c| m.min(c.time_s));
+            if time > bound {
+                break;
+            }
+            let Some(sigma) = total_arcsec(self.model, &s, self.budget) else {
+                continue;
+            };
+            let c = Candidate {
+                order: order.name(),
+                n,
+                dwell_s: dwell,
+                time_s: time,
+                sigma_arcsec: sigma,
+            };
+            if plan.floor.as_ref().is_none_or(|f| sigma < f.sigma_arcsec) {
+                plan.floor = Some(c.clone());
+            }
+            let past_floor = best_here.is_some_and(|b| sigma > 1.5 * b);
+            best_here = Some(best_here.map_or(sigma, |b: f64| b.min(sigma)));
+            if sigma <= self.target_arcsec {
+                if best.as_ref().is_none_or(|b| time < b.time_s) {
+                    *best = Some(c);
+                }
+                // More positions at this dwell only take longer.
+                break;
+            }
+            // Coloured noise: past the best run length, longer runs only get worse.
+            if past_floor {
+                break;
+            }
+        }
+    }
+}
+
+/// Dwells between `at` and each of its grid neighbours, eight steps evenly in log.
+fn finer_dwells(grid: &[f64], at: f64) -> Vec<f64> {
+    let below = grid.iter().copied().filter(|&d| d < at).fold(at, |_, d| d);
+    let above = grid.iter().copied().find(|&d| d > at).unwrap_or(at);
+    let steps = 8;
+    let mut out = Vec::new();
+    for (from, to) in [(below, at), (at, above)] {
+        for k in (1..steps).filter(|_| from < to) {
+            // Two significant digits: a dwell the firmware's millisecond setting holds.
+            let d = from * (to / from).powf(k as f64 / steps as f64);
+            let unit = 10f64.powf(d.log10().floor() - 1.0);
+            out.push((d / unit).round() * unit);
+        }
+    }
+    out.dedup();
+    out
 }
 
 /// The named visiting orders, those that resist drift and flicker first, so that their runs
@@ -259,5 +310,36 @@ mod tests {
         let fastest = pairs.fastest.expect("opposite pairs reach 18\"");
         println!("sequential floor {floor:?}\nopposite pairs {fastest:?}");
         assert!(fastest.time_s < 250.0, "{fastest:?}");
+    }
+
+    #[test]
+    fn the_search_finds_runs_between_its_grid_points() {
+        let (white, b) = paper();
+        let m = NoiseModel {
+            bias_instability_dph: 0.004,
+            ..white
+        };
+        let tm = fast();
+        let pairs = [Order::OppositePairs];
+        let found = search(&m, &b, &tm, &pairs, &Space::default(), 18.0, 5.0)
+            .fastest
+            .unwrap();
+        // Every even n and dwells of 0.1 s around it, the order's whole neighbourhood.
+        let mut fastest = f64::INFINITY;
+        for dwell in (20..=50).map(|d| d as f64 / 10.0) {
+            let tm = Timing { dwell_s: dwell, ..tm };
+            for n in (30..=80).step_by(2) {
+                let s = Schedule::new(&pairs[0], n, n / 2, &tm);
+                if total_arcsec(&m, &s, &b).unwrap() <= 18.0 {
+                    fastest = fastest.min(5.0 + s.duration_s);
+                    break;
+                }
+            }
+        }
+        println!("found {found:?}, fastest on the fine grid {fastest:.1} s");
+        assert!(found.time_s <= 1.01 * fastest, "{found:?} against {fastest}");
+        // Off the coarse grid, which is one of 4 positions past 44 and 3 s or 4 s there.
+        let coarse = Space::default();
+        assert!(!coarse.positions.contains(&found.n) || !coarse.dwells_s.contains(&found.dwell_s));
     }
 }
