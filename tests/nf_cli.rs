@@ -312,6 +312,68 @@ fn an_azimuth_next_to_north_prints_as_zero_not_360_or_minus_zero() {
     }
 }
 
+/// A recording at latitude 40 whose dwell means are the Earth rate plus `noise(k)`, in a file
+/// whose metadata says `stated_lat`.
+fn written(name: &str, stated_lat: f64, noise: impl Fn(usize) -> f64) -> String {
+    let h = 15.041 * 40f64.to_radians().cos();
+    let mut text = format!("# format = northfinder-recording/1\n# latitude_deg = {stated_lat}\n# dwell_s = 1\n");
+    text += "index,t_s,encoder_deg,rate_dph\n";
+    for k in 0..36 {
+        let g = 10.0 * k as f64;
+        text += &format!(
+            "{k},{},{g},{}\n",
+            1.5 * k as f64 + 0.5,
+            2.0 + h * (g + 70.0).to_radians().cos() + noise(k)
+        );
+    }
+    let file = tmp(name);
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
+#[test]
+fn an_earth_rate_not_resolved_gives_no_azimuth_in_fit_or_diagnose() {
+    // Dwell means scattered 40 deg/h (a Weyl sequence, uniform in -0.5..0.5, sd 0.29):
+    // the 11.5 deg/h harmonic is lost in them.
+    let hidden = written("hidden.csv", 40.0, |k| 138.0 * ((k as f64 * 0.618_034).fract() - 0.5));
+    // Clean, but the metadata's latitude predicts an eighth of the amplitude.
+    let wrong_lat = written("wrong_lat.csv", 84.0, |_| 0.0);
+    let clean = written("clean.csv", 40.0, |k| 0.01 * ((k as f64 * 0.618_034).fract() - 0.5));
+    for (file, why) in [(&hidden, "uncertainty"), (&wrong_lat, "times the Earth rate")] {
+        let (code, out, err) = nf(&["fit", file]);
+        assert_eq!(code, 0, "{err}");
+        assert!(out.contains("NOT RESOLVED") && out.contains(why), "{out}");
+        assert!(!out.lines().any(|l| l.starts_with("azimuth psi")), "{out}");
+        let (_, out, _) = nf(&["fit", file, "--json"]);
+        let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(j["earth_rate_resolved"], false);
+        assert!(
+            j["azimuth_deg"].is_null() && j["surveying_azimuth_deg"].is_null(),
+            "{j}"
+        );
+        assert!(j["psi_fitted_deg"].is_f64() && j["not_resolved_because"].as_str().unwrap().contains(why));
+        let (code, out, err) = nf(&["diagnose", file]);
+        assert_eq!(code, 0, "{err}");
+        let last = out.lines().find(|l| l.starts_with("final:")).unwrap();
+        assert!(last.starts_with("final: NOT RESOLVED") && last.contains(why), "{out}");
+        let (_, out, _) = nf(&["diagnose", file, "--json"]);
+        let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(j["earth_rate_resolved"], false);
+        assert!(
+            j["final"]["azimuth_deg"].is_null() && j["final"]["sigma_arcsec"].is_f64(),
+            "{j}"
+        );
+    }
+    let (_, out, _) = nf(&["fit", &clean, "--json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["earth_rate_resolved"], true);
+    assert!((j["azimuth_deg"].as_f64().unwrap() - 70.0).abs() < 0.01, "{j}");
+    let (_, out, _) = nf(&["diagnose", &clean, "--json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(j["earth_rate_resolved"] == true && j["not_resolved_because"].is_null());
+    assert!((j["final"]["azimuth_deg"].as_f64().unwrap() - 70.0).abs() < 0.01, "{j}");
+}
+
 #[test]
 fn plan_budget_target_and_monte_carlo() {
     let (code, out, err) = nf(&["plan", "--target", "15", "--mc-runs", "300", "--json"]);

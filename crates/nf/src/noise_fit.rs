@@ -317,23 +317,31 @@ fn azimuth(coef: &[f64], cov: &[Vec<f64>]) -> Verdict {
 }
 
 impl NoiseFit {
-    /// Why the Earth rate is not resolved, if it is not: the azimuth's sigma is tens of
-    /// degrees, or the amplitude is inconsistent with `WE cos(lat)`.
+    /// Why the Earth rate is not resolved, if it is not ([`unresolved`]).
     pub fn unresolved(&self, predicted_dph: f64) -> Option<String> {
-        let sigma_deg = self.sigma_psi_deg;
-        if sigma_deg.is_nan() || sigma_deg >= 10.0 {
-            return Some(format!(
-                "the azimuth's uncertainty is {sigma_deg:.1} deg: the gyro noise hides the Earth rate"
-            ));
-        }
-        let ratio = self.amplitude_dph / predicted_dph;
-        let off = (self.amplitude_dph - predicted_dph).abs();
-        if !(0.5..=1.5).contains(&ratio) && off > 3.0 * self.sigma_amplitude_dph {
-            return Some(format!(
-                "the first-harmonic amplitude {:.5} deg/h is {ratio:.2} times the Earth rate's {predicted_dph:.5} deg/h at this latitude",
-                self.amplitude_dph
-            ));
-        }
-        None
+        unresolved(
+            self.sigma_psi_deg,
+            self.amplitude_dph,
+            self.sigma_amplitude_dph,
+            predicted_dph,
+        )
     }
+}
+
+/// Why the Earth rate is not resolved, if it is not: the azimuth's sigma is tens of degrees,
+/// or the amplitude is inconsistent with `WE cos(lat)` (`predicted_dph`).
+pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, predicted_dph: f64) -> Option<String> {
+    if sigma_deg.is_nan() || sigma_deg >= 10.0 {
+        return Some(format!(
+            "the azimuth's uncertainty is {sigma_deg:.1} deg: the gyro noise hides the Earth rate"
+        ));
+    }
+    let ratio = amplitude_dph / predicted_dph;
+    let off = (amplitude_dph - predicted_dph).abs();
+    if !(0.5..=1.5).contains(&ratio) && off > 3.0 * sigma_amplitude_dph {
+        return Some(format!(
+            "the first-harmonic amplitude {amplitude_dph:.5} deg/h is {ratio:.2} times the Earth rate's {predicted_dph:.5} deg/h at this latitude"
+        ));
+    }
+    None
 }

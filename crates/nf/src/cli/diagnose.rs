@@ -145,10 +145,16 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
     }
     if let Some(report) = &a.report {
         let names: Vec<&str> = d.findings.iter().map(|f| f.effect.name()).collect();
+        let result = match &d.unresolved {
+            Some(why) => format!("Earth rate not resolved: {why}"),
+            None => format!(
+                "final psi {} deg +- {:.2}\"",
+                angle5(d.final_.azimuth_deg),
+                d.final_.sigma_arcsec
+            ),
+        };
         let headline = format!(
-            "final psi {} deg +- {:.2}\"; findings: {}",
-            angle5(d.final_.azimuth_deg),
-            d.final_.sigma_arcsec,
+            "{result}; findings: {}",
             if names.is_empty() {
                 "none".to_string()
             } else {
@@ -275,12 +281,20 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         angle5(s.azimuth_deg),
         s.sigma_arcsec
     )?;
-    writeln!(
-        out,
-        "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights)",
-        angle5(fz.azimuth_deg),
-        fz.sigma_arcsec
-    )?;
+    match &d.unresolved {
+        Some(why) => writeln!(
+            out,
+            "final: NOT RESOLVED: {why}; no azimuth can be given (the fit's numbers, not an azimuth: psi {} deg +- {:.2}\")",
+            angle5(fz.azimuth_deg),
+            fz.sigma_arcsec
+        )?,
+        None => writeln!(
+            out,
+            "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights)",
+            angle5(fz.azimuth_deg),
+            fz.sigma_arcsec
+        )?,
+    }
     for n in &d.notes {
         writeln!(out, "note: {n}")?;
     }

@@ -42,7 +42,7 @@ pub use select::Finding;
 use crate::noise_fit::NoiseChoice;
 use crate::recording::Recording;
 use data::Data;
-use model::{Model, summary};
+use model::{Model, amplitude, summary};
 use nf_model::noise::NoiseModel;
 use select::Selector;
 use shaft_tilt::ShaftTilt;
@@ -100,6 +100,9 @@ pub struct Diagnosis {
     pub selected: Summary,
     /// The result: the models met, averaged by their weights.
     pub final_: Summary,
+    /// Why the result is no azimuth (`nf fit`'s rule on the final sigma and the selected
+    /// model's amplitude); `None` when the Earth rate is resolved.
+    pub unresolved: Option<String>,
     pub models: Vec<Weighted>,
     /// What cannot be told apart, and other cautions.
     pub notes: Vec<String>,
@@ -185,6 +188,9 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
     let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
+    let (amp, amp_sigma) = amplitude(&sel.fit);
+    let predicted = nf_model::uncertainty::amplitude_dph(rec.latitude_deg);
+    let unresolved = crate::noise_fit::unresolved(final_.sigma_arcsec / 3600.0, amp, amp_sigma, predicted);
     let mut findings = noise::findings(&noise, &tails, &rate_resid, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either, nor
@@ -227,6 +233,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         findings,
         selected: summary(&sel.fit),
         final_,
+        unresolved,
         timing: Timing {
             noise_s,
             selection_s,

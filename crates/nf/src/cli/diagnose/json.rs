@@ -16,7 +16,10 @@ pub(super) struct DiagnosisJson<'a> {
     alpha: f64,
     /// Eq. 7 on the raw rates, under the noise model.
     baseline: SummaryJson,
-    /// The result: the models met, averaged by their weights.
+    /// Whether the Earth rate is resolved; without it the final has no azimuth.
+    earth_rate_resolved: bool,
+    /// The result: the models met, averaged by their weights; its azimuth is null when the
+    /// Earth rate is not resolved.
     #[serde(rename = "final")]
     final_: SummaryJson,
     /// Noise terms, catalogue effects and unexplained structure, in the order found.
@@ -25,6 +28,8 @@ pub(super) struct DiagnosisJson<'a> {
     models: Vec<ModelJson<'a>>,
     /// The gyro noise model.
     noise_model: NoiseModelJson<'a>,
+    /// Why the Earth rate is not resolved; null when it is.
+    not_resolved_because: Option<&'a str>,
     /// What cannot be told apart, and other cautions.
     notes: &'a [String],
     /// The selected model alone.
@@ -38,7 +43,7 @@ pub(super) struct DiagnosisJson<'a> {
 #[derive(Serialize)]
 struct SummaryJson {
     /// Azimuth psi, deg.
-    azimuth_deg: f64,
+    azimuth_deg: Option<f64>,
     /// Whitened residual sum of squares (dimensionless).
     rss: f64,
     /// 1-sigma uncertainty of psi, arcsec.
@@ -48,7 +53,7 @@ struct SummaryJson {
 impl From<&Summary> for SummaryJson {
     fn from(s: &Summary) -> SummaryJson {
         SummaryJson {
-            azimuth_deg: s.azimuth_deg,
+            azimuth_deg: Some(s.azimuth_deg),
             rss: s.rss,
             sigma_arcsec: s.sigma_arcsec,
         }
@@ -157,7 +162,11 @@ pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -
     DiagnosisJson {
         alpha: d.alpha,
         baseline: (&d.baseline).into(),
-        final_: (&d.final_).into(),
+        earth_rate_resolved: d.unresolved.is_none(),
+        final_: SummaryJson {
+            azimuth_deg: d.unresolved.is_none().then_some(d.final_.azimuth_deg),
+            ..(&d.final_).into()
+        },
         findings: d.findings.iter().map(finding_json).collect(),
         models: d
             .models
@@ -177,6 +186,7 @@ pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -
             source: &d.noise_source,
             with_drift: (&d.drift_model).into(),
         },
+        not_resolved_because: d.unresolved.as_deref(),
         notes: &d.notes,
         selected: (&d.selected).into(),
         simulation: sim.map(diagnose_sim::json),

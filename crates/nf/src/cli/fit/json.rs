@@ -16,8 +16,9 @@ pub(super) struct FitJson {
     amplitude_dph: f64,
     /// Amplitude the latitude predicts, deg/h.
     amplitude_predicted_dph: f64,
-    /// Azimuth psi of Eq. 7 (generalised least squares), deg.
-    azimuth_deg: f64,
+    /// Azimuth psi of Eq. 7 (generalised least squares), deg; null when the Earth rate is
+    /// not resolved.
+    azimuth_deg: Option<f64>,
     /// The paper's budget (Eq. 31).
     budget_eq31_paper: BudgetJson,
     /// The exact model's budget.
@@ -42,6 +43,9 @@ pub(super) struct FitJson {
     noise_model: NoiseModelJson,
     /// Why the Earth rate is not resolved; null when it is.
     not_resolved_because: Option<String>,
+    /// The fit's phase psi, deg, given whether or not the Earth rate is resolved (then it is
+    /// no azimuth).
+    psi_fitted_deg: f64,
     /// Gyro bias (the fit's offset), deg/h.
     offset_dph: f64,
     /// The white-noise least-squares fit.
@@ -60,8 +64,9 @@ pub(super) struct FitJson {
     sigma_arcsec: f64,
     /// RMS of the residuals, deg/h.
     sigma_gyro_dph: f64,
-    /// The surveying azimuth (clockwise from true north) of the gamma = 0 direction, deg.
-    surveying_azimuth_deg: f64,
+    /// The surveying azimuth (clockwise from true north) of the gamma = 0 direction, deg;
+    /// null when the Earth rate is not resolved.
+    surveying_azimuth_deg: Option<f64>,
     /// Positions without an inclinometer reading, corrected from the tilt circle.
     tilt_bridged_positions: usize,
     /// The tilt correction applied: none, first-order or exact.
@@ -131,7 +136,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
         amplitude_dph: g.amplitude_dph,
         amplitude_predicted_dph: an.amplitude_predicted_dph,
         // + 0.0: a -0.0 azimuth reads as a sign error.
-        azimuth_deg: g.psi_deg + 0.0,
+        azimuth_deg: unresolved.is_none().then_some(g.psi_deg + 0.0),
         budget_eq31_paper: (&an.budget_paper).into(),
         budget_exact: (&an.budget_exact).into(),
         dof: f.dof,
@@ -169,7 +174,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
             },
             source: g.source.describe(),
         },
-        not_resolved_because: unresolved,
+        psi_fitted_deg: g.psi_deg + 0.0,
         offset_dph: f.offset_dph,
         ols: Ols {
             azimuth_deg: f.psi_deg,
@@ -183,8 +188,9 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
         sigma_amplitude_dph: g.sigma_amplitude_dph,
         sigma_arcsec: g.sigma_psi_deg * 3600.0,
         sigma_gyro_dph: an.sigma_gyro_dph,
-        surveying_azimuth_deg: surveying_azimuth_deg(g.psi_deg) + 0.0,
+        surveying_azimuth_deg: unresolved.is_none().then_some(surveying_azimuth_deg(g.psi_deg) + 0.0),
         tilt_bridged_positions: an.tilt_bridged,
         tilt_correction: an.method.name(),
+        not_resolved_because: unresolved,
     }
 }
