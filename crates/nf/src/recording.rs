@@ -329,6 +329,7 @@ fn in_visiting_order(rows: &mut [Row], warnings: &mut Vec<Error>) -> Result<(), 
                 .into(),
         });
     }
+    missing_visits(rows, warnings);
     match rows.windows(2).find(|w| w[1].t_s <= w[0].t_s) {
         Some([a, b]) => err(
             b.line,
@@ -338,6 +339,29 @@ fn in_visiting_order(rows: &mut [Row], warnings: &mut Vec<Error>) -> Result<(), 
             ),
         ),
         _ => Ok(()),
+    }
+}
+
+/// Visits the indices skip (from 0, in index order): positions the firmware measured and the
+/// file lost, or rows cut out; the fit goes on with the rest.
+fn missing_visits(rows: &[Row], warnings: &mut Vec<Error>) {
+    let mut expected = 0u32;
+    for r in rows {
+        if r.index > expected {
+            let what = if r.index - expected == 1 {
+                format!("index {expected}")
+            } else {
+                format!("indices {expected} to {}", r.index - 1)
+            };
+            warnings.push(Error {
+                line: r.line,
+                what: format!(
+                    "{what} missing before this line's index {}: visits lost from the file",
+                    r.index
+                ),
+            });
+        }
+        expected = r.index.saturating_add(1);
     }
 }
 

@@ -229,6 +229,23 @@ fn quarters_that_do_not_average_to_their_rate_are_dropped_with_a_warning() {
 }
 
 #[test]
+fn visits_the_indices_skip_are_a_warning_and_the_rest_is_read() {
+    // Indices from 1, and 4-5 gone: visits 0, 4 and 5 were lost from the file.
+    let r = Recording::parse(&format!("{HEAD}1,2,90,0\n2,3,180,-1\n3,4,270,0\n6,5,45,0.7\n")).unwrap();
+    assert_eq!(r.rows.len(), 4);
+    let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        said,
+        [
+            "line 4: index 0 missing before this line's index 1: visits lost from the file",
+            "line 7: indices 4 to 5 missing before this line's index 6: visits lost from the file"
+        ]
+    );
+    let whole = Recording::parse(&format!("{HEAD}0,1,0,1\n1,2,90,0\n2,3,180,-1\n")).unwrap();
+    assert!(whole.warnings.is_empty(), "{:?}", whole.warnings);
+}
+
+#[test]
 fn lines_out_of_visiting_order_are_taken_by_index_and_time_must_follow_it() {
     let shuffled = Recording::parse(&format!("{HEAD}1,2,90,0\n0,1,0,1\n2,3,180,-1\n")).unwrap();
     let order: Vec<(u32, usize)> = shuffled.rows.iter().map(|r| (r.index, r.line)).collect();
