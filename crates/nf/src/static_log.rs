@@ -42,7 +42,11 @@ impl Spacing {
         steps.sort_by(f64::total_cmp);
         let median = steps[steps.len() / 2];
         let jitter = crate::stats::robust_sigma(steps.iter().map(|s| s - median));
-        let gap = median + ((GAP_FACTOR - 1.0) * median).max(JITTER_SIGMAS * jitter);
+        let resolution = rounding(&steps, median);
+        let gap = median
+            + ((GAP_FACTOR - 1.0) * median)
+                .max(JITTER_SIGMAS * jitter)
+                .max(GAP_FACTOR * resolution);
         let (mut segments, mut gaps, mut start) = (Vec::new(), Vec::new(), 0);
         for i in 1..t_s.len() {
             if t_s[i] - t_s[i - 1] > gap {
@@ -64,6 +68,24 @@ impl Spacing {
             });
         let step_s = if count > 0 { span / count as f64 } else { median };
         Spacing { step_s, segments, gaps }
+    }
+}
+
+/// The resolution the times were written to, where it is coarser than the step: they then
+/// step by whole counts of it (800 Hz written to the millisecond steps by 1 ms and 2 ms), and
+/// the count next to the median's holds many steps (a twentieth, and three); a lost sample is
+/// one step. 0 when there is no such resolution.
+fn rounding(sorted_steps: &[f64], median: f64) -> f64 {
+    let Some(&next) = sorted_steps.iter().find(|&&s| s > median * (1.0 + 1e-6)) else {
+        return 0.0;
+    };
+    // Every step is at least one count, so a count is at most the median step.
+    let q = next - median;
+    let near = sorted_steps.iter().filter(|&&s| (s - next).abs() < q / 2.0).count();
+    if q <= median * (1.0 + 1e-6) && near >= 3 && near * 20 >= sorted_steps.len() {
+        q
+    } else {
+        0.0
     }
 }
 
@@ -178,6 +200,14 @@ mod tests {
         let jittered = log_of((0..4000).map(|i| i as f64 * 0.01 + rng.uniform(-0.003, 0.003)));
         assert!(jittered.spacing.gaps.is_empty(), "{:?}", jittered.spacing.gaps.first());
         assert!((jittered.spacing.step_s - 0.01).abs() < 1e-5);
+        // 800 Hz written to the millisecond: steps of 1 and 2 ms, and a lost sample there a
+        // step of 3 ms (2.5 ms).
+        let ms = |i: usize| (i as f64 / 800.0 * 1000.0).round() / 1000.0;
+        let coarse = log_of((0..4000).map(ms));
+        assert!(coarse.spacing.gaps.is_empty(), "{:?}", coarse.spacing.gaps.first());
+        assert!((coarse.spacing.step_s - 1.0 / 800.0).abs() < 1e-6);
+        let coarse_lost = log_of((0..4000).filter(|&i| i != 1001).map(ms));
+        assert_eq!(coarse_lost.spacing.segments, vec![0..1001, 1001..3999]);
         // A sample lost from a clean log.
         let lost = log_of((0..4000).filter(|&i| i != 2000).map(|i| i as f64 * 0.01));
         assert_eq!(lost.spacing.segments, vec![0..2000, 2000..3999]);
