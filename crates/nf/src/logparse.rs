@@ -101,6 +101,10 @@ impl Log {
 pub fn extract(log: &[u8]) -> Log {
     let log = log.strip_prefix("\u{FEFF}".as_bytes()).unwrap_or(log);
     let (mut rec, mut warnings, mut noisy) = (Vec::new(), Vec::new(), Vec::new());
+    // A log cut off mid-line (the probe unplugged, a copy stopped) ends without a line break:
+    // its last line may have lost fields or digits, 3.722 for 3.7222496.
+    let unterminated = !log.is_empty() && !log.ends_with(b"\n");
+    let last = log.split(|&b| b == b'\n').count();
     for (i, raw) in log.split(|&b| b == b'\n').enumerate() {
         let n = i + 1;
         let (text, bad) = valid_utf8(raw);
@@ -114,6 +118,11 @@ pub fn extract(log: &[u8]) -> Log {
             warnings.push(Error {
                 line: n,
                 what: format!("a 'rec' line with {bad} invalid UTF-8 byte(s) is dropped: its values cannot be trusted"),
+            });
+        } else if unterminated && n == last {
+            warnings.push(Error {
+                line: n,
+                what: "the log ends inside this 'rec' line (no line break after it): it is dropped, as its last value may be cut; end it with a line break if it is whole".into(),
             });
         } else {
             rec.push((n, msg));
@@ -291,6 +300,19 @@ WARN  inclinometer: bad line dropped
         assert_eq!(runs[1].meta("latitude_deg"), Some("40"));
         assert_eq!((runs[0].warnings.len(), runs[1].warnings.len()), (1, 0));
         assert_eq!(extract(b"rec 0,1\n").runs().len(), 1);
+    }
+
+    #[test]
+    fn a_log_that_ends_inside_a_rec_line_drops_it_with_a_warning() {
+        let whole = b"INFO  rec 0,1.5,0,3.7222496\nINFO  rec 1,2.5,90,3.722";
+        let l = extract(whole);
+        assert_eq!(l.rec, vec![(1, "0,1.5,0,3.7222496".to_string())]);
+        assert_eq!(l.warnings.len(), 1);
+        assert_eq!(l.warnings[0].line, 2);
+        assert!(l.warnings[0].what.contains("ends inside"), "{:?}", l.warnings);
+        // Ended by a line break (or by other text after it), the line is whole.
+        assert_eq!(extract(b"INFO  rec 0,1.5,0,3.7\r\n").rec.len(), 1);
+        assert_eq!(extract(b"INFO  rec 0,1.5,0,3.7\nINFO  done").rec.len(), 1);
     }
 
     #[test]
