@@ -402,6 +402,42 @@ fn plan_budget_target_and_monte_carlo() {
 }
 
 #[test]
+fn plan_white_budgets_count_every_visit_of_a_forward_back_run() {
+    let gyro = |order: &str, key: &str| {
+        let args = [
+            "plan",
+            "--arw",
+            "0.001",
+            "--n",
+            "72",
+            "--dwell",
+            "2",
+            "--tilt",
+            "0",
+            "--encoder",
+            "0",
+        ];
+        let (code, out, err) = nf(&[&args[..], &["--order", order, "--mc-runs", "0", "--json"]].concat());
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+        j[key]["gyro_arcsec"].as_f64().unwrap()
+    };
+    let sequential = gyro("sequential", "budget_exact");
+    for key in [
+        "budget_eq31_paper",
+        "budget_exact",
+        "budget_numerical",
+        "budget_noise_model",
+    ] {
+        let fb = gyro("forward-back", key);
+        assert!(
+            (fb * 2f64.sqrt() / sequential - 1.0).abs() < 1e-3,
+            "{key}: {fb} against {sequential}"
+        );
+    }
+}
+
+#[test]
 fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
     // The paper's gyro with flicker, a motor that turns half a turn in 0.5 s, no tilt residue.
     let fast = [

@@ -112,6 +112,8 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         encoder_deg: a.encoder,
         tilt_deg: a.tilt,
     };
+    // The white-noise budgets are per position: forward-back dwells twice at each.
+    let visits_per_position = order.visits(a.n as u16) as f64 / a.n as f64;
     let noise_gyro = plan_noise::gyro_arcsec(&model, &schedule, a.lat);
     let noise_total = plan_noise::total_arcsec(&model, &schedule, &budget);
     let inp = plan::Inputs {
@@ -121,10 +123,10 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         encoder_deg: a.encoder,
         tilt_deg: a.tilt,
         n: a.n,
-        dwell_s: a.dwell,
+        dwell_s: a.dwell * visits_per_position,
         gyro_elev_deg: 0.01,
     };
-    let s = inp.sigmas(a.dwell);
+    let s = inp.sigmas(inp.dwell_s);
     let paper_b = Budget::paper(a.n, &s, a.lat, 45.0, inp.gyro_elev_deg);
     let exact_b = Budget::closed_form(a.n, &s, a.lat);
     let num_b = plan::numerical(&inp);
@@ -233,9 +235,17 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
         return Ok(());
     }
+    let visits = if visits_per_position == 1.0 {
+        String::new()
+    } else {
+        format!(
+            ", {visits_per_position} visits and {} s of dwell per position",
+            inp.dwell_s
+        )
+    };
     writeln!(
         out,
-        "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position), {:.0} s to north with levelling and moves",
+        "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position{visits}), {:.0} s to north with levelling and moves",
         a.n,
         a.dwell,
         order.name(),
@@ -296,8 +306,8 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         match paper_n {
             Some(n) => writeln!(
                 out,
-                "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s dwell",
-                a.dwell
+                "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s of dwell per position",
+                inp.dwell_s
             )?,
             None => writeln!(out, "target {t}\": not reachable by the paper's Eq. 31")?,
         }
