@@ -174,6 +174,24 @@ fn flicker_noise_the_simulation_lacks_is_named_and_put_in() {
 }
 
 #[test]
+fn a_white_level_off_within_the_dwells_is_scaled_from_the_samples() {
+    // The simulation's angle random walk 5 % high: the samples' spread shows it, far more
+    // precisely than the dwell means would.
+    let f = base();
+    let mut high = base();
+    high.noise.arw_deg_rth *= 1.05;
+    let s = against(&recording(&f), &high);
+    assert!(
+        s.before
+            .line(sim_compare::Quantity::SampleSd)
+            .is_some_and(|l| l.mismatch)
+    );
+    let arw = s.fixed.file.noise.arw_deg_rth / f.noise.arw_deg_rth;
+    assert!((arw - 1.0).abs() < 0.01, "{arw} {:?}", s.fixed.changes);
+    assert_eq!(s.fixed.after.mismatches(), 0, "{:?}", s.fixed.after);
+}
+
+#[test]
 fn the_recording_s_plan_goes_into_the_fixed_file() {
     let mut with = base();
     with.run.positions = 24;

@@ -275,7 +275,18 @@ pub fn moments(
     let noise_named = physics
         .iter()
         .any(|p| p.kind.is_noise() && p.kind != Kind::HeavyTails && p.verdict != Verdict::Modelled);
-    if noise_named || cmp.any(is_noise) {
+    let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
+    let within_dwell = |q: Quantity| matches!(q, Quantity::SampleSd | Quantity::QuarterSd);
+    if !noise_named && !cmp.any(|q| is_noise(q) && !within_dwell(q)) && cmp.any(within_dwell) {
+        // Only the noise within a dwell differs: the white level, which thousands of samples
+        // measure better than the recording's estimate from its dwell means does.
+        let (q, (r, s)) = [Quantity::SampleSd, Quantity::QuarterSd]
+            .into_iter()
+            .find_map(|q| Some((q, off(q)?)))
+            .expect("a within-dwell quantity differs");
+        f.noise.arw_deg_rth *= r / s;
+        notes.push(format!("noise: angle random walk times {:.4} (the {q})", r / s));
+    } else if noise_named || cmp.any(is_noise) {
         let tails = f.noise.student_t_dof;
         f.noise = Noise::of(&noise_of(diag));
         f.noise.student_t_dof = tails;
@@ -286,7 +297,6 @@ pub fn moments(
         };
         notes.push(format!("noise: the recording's estimate ({}{how})", diag.noise_source));
     }
-    let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
     if let Some((r, s)) = off(Quantity::Bias) {
         f.gyro.bias_dph = (f.gyro.bias_dph + r - s).clamp(-50.0, 50.0);
         notes.push(format!("bias: moved by {:+.5} deg/h", r - s));
