@@ -292,10 +292,18 @@ impl KindText for csv::Error {
 }
 
 /// A file's text. Bytes that are not UTF-8 (a name in Latin-1 in a column no reader uses)
-/// become U+FFFD, so that a cell the reader needs fails with its line and column.
+/// become U+FFFD, so that a cell the reader needs fails with its line and column. Lines ended
+/// by a carriage return alone (classic Mac OS) are read as lines.
 pub fn read_text(path: &str) -> Result<String, Error> {
     match std::fs::read(path) {
-        Ok(bytes) => Ok(String::from_utf8_lossy(&bytes).into_owned()),
+        Ok(bytes) => {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            Ok(if text.contains('\r') && !text.contains('\n') {
+                text.replace('\r', "\n")
+            } else {
+                text
+            })
+        }
         Err(e) => err(0, format!("cannot read {path}: {e}")),
     }
 }
@@ -404,5 +412,16 @@ mod tests {
         let rows: Vec<_> = h.rows(text).map(Result::unwrap).collect();
         assert_eq!((rows[0].0, &rows[0].1[1]), (3, "a, b"));
         assert_eq!((rows[1].0, &rows[1].1[1]), (7, "say \"hi\""));
+    }
+
+    #[test]
+    fn lines_ended_by_a_carriage_return_alone_are_lines() {
+        let path = std::env::temp_dir().join(format!("nf-cr-{}.csv", std::process::id()));
+        std::fs::write(&path, "# format = x/1\rt_s,rate_dph\r1,2\r").unwrap();
+        let text = read_text(path.to_str().unwrap()).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        let h = Head::parse(&text).unwrap();
+        assert_eq!(h.names, ["t_s", "rate_dph"]);
+        assert_eq!(h.rows(&text).map(Result::unwrap).map(|r| r.0).collect::<Vec<_>>(), [3]);
     }
 }
