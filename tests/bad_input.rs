@@ -121,6 +121,7 @@ fn every_numeric_option_has_a_checked_range() {
         (&["simulate", "--rrw", "-1"], "--rrw"),
         (&["simulate", "--student-t-dof", "1.5"], "--student-t-dof"),
         (&["simulate", "--gm-sigma", "0.1"], "--gm-tau"),
+        (&["plan", "--gm-tau", "5"], "--gm-sigma"),
         (&["fit", r, "--sigma-encoder", "nan"], "--sigma-encoder"),
         (&["fit", r, "--sigma-tilt", "inf"], "--sigma-tilt"),
         (&["fit", r, "--harmonics", "9"], "--harmonics"),

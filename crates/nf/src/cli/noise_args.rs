@@ -79,6 +79,13 @@ impl NoiseArgs {
         if self.gm_sigma.is_some_and(|s| s > 0.0) && m.gm_tau_s == 0.0 {
             return Err(Fail("--gm-sigma needs --gm-tau, the correlation time in s".into(), 2));
         }
+        // A time alone adds nothing: said, since the user meant a Gauss-Markov term.
+        if self.gm_tau.is_some_and(|t| t > 0.0) && m.gm_sigma_dph == 0.0 {
+            return Err(Fail(
+                "--gm-tau needs --gm-sigma, the Gauss-Markov bias's sd in deg/h".into(),
+                2,
+            ));
+        }
         m.validate().map_err(|e| Fail(format!("noise model: {e}"), 2))?;
         Ok(m)
     }
