@@ -15,6 +15,8 @@ pub struct PointCov<'a> {
     lens: &'a [usize],
     /// Each term's grids at unit size, for every pair of points (row-major, i <= j).
     units: RefCell<Vec<(Term, Rc<Vec<LagGrid>>)>>,
+    /// Each term's expected Allan variance at unit size, at every point.
+    expected: RefCell<Vec<(Term, Rc<Vec<f64>>)>>,
 }
 
 impl<'a> PointCov<'a> {
@@ -24,7 +26,36 @@ impl<'a> PointCov<'a> {
             sampling,
             lens,
             units: RefCell::new(Vec::new()),
+            expected: RefCell::new(Vec::new()),
         }
+    }
+
+    /// A term's expected Allan variance at unit size at every point: a fit's column, the same
+    /// in every pass and every support tried.
+    pub fn expected(&self, term: Term) -> Rc<Vec<f64>> {
+        if let Some((_, e)) = self.expected.borrow().iter().find(|(t, _)| *t == term) {
+            return e.clone();
+        }
+        let unit = term.unit();
+        let e: Rc<Vec<f64>> = Rc::new(
+            self.points
+                .iter()
+                .map(|p| self.sampling.expected_avar(&unit, p.m))
+                .collect(),
+        );
+        self.expected.borrow_mut().push((term, e.clone()));
+        e
+    }
+
+    /// The expected Allan variance under `model` at every point.
+    pub fn expected_of(&self, model: &NoiseModel) -> Vec<f64> {
+        let mut e = vec![0.0; self.points.len()];
+        for (t, size) in Term::sizes(model) {
+            for (x, u) in e.iter_mut().zip(self.expected(t).iter()) {
+                *x += size * size * u;
+            }
+        }
+        e
     }
 
     /// The points' covariance under `model`, n x n row-major.
@@ -59,11 +90,8 @@ impl<'a> PointCov<'a> {
         }
         let model = term.unit();
         let m = |i: usize| self.points[i].m;
-        let u: Rc<Vec<LagGrid>> = Rc::new(
-            self.pairs()
-                .map(|(i, j)| self.sampling.lag_grid(&model, m(i), m(j)))
-                .collect(),
-        );
+        let pairs: Vec<(usize, usize)> = self.pairs().map(|(i, j)| (m(i), m(j))).collect();
+        let u: Rc<Vec<LagGrid>> = Rc::new(self.sampling.lag_grids(&model, &pairs));
         self.units.borrow_mut().push((term, u.clone()));
         u
     }

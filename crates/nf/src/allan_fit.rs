@@ -201,19 +201,13 @@ impl Whitening {
 
 struct Problem<'a> {
     points: &'a [Point],
-    sampling: Sampling,
+    cov: &'a PointCov<'a>,
     white: Whitening,
 }
 
 impl Problem<'_> {
     fn column(&self, t: Term) -> Vec<f64> {
-        let unit = t.unit();
-        let x: Vec<f64> = self
-            .points
-            .iter()
-            .map(|p| self.sampling.expected_avar(&unit, p.m))
-            .collect();
-        self.white.apply(&x)
+        self.white.apply(&self.cov.expected(t))
     }
 
     fn y(&self) -> Vec<f64> {
@@ -396,7 +390,7 @@ fn passes(points: &[Point], sampling: Sampling, cov: &PointCov, model_error: f64
     // First pass: an estimate's relative variance is about 2 / clusters.
     let mut problem = Problem {
         points,
-        sampling,
+        cov,
         white: Whitening::Diagonal(
             points
                 .iter()
@@ -425,7 +419,7 @@ fn passes(points: &[Point], sampling: Sampling, cov: &PointCov, model_error: f64
             model,
         });
         if pass + 1 < ITERATIONS {
-            problem.white = whitening(points, sampling, cov, &model, model_error)?;
+            problem.white = whitening(points, cov, &model, model_error)?;
         }
     }
     Ok(last.expect("at least one pass"))
@@ -434,18 +428,13 @@ fn passes(points: &[Point], sampling: Sampling, cov: &PointCov, model_error: f64
 /// The points' covariance under `model`, factored. A point whose variance the model puts
 /// below `VAR_FLOOR` of the measured value is scaled up to it, correlations kept; each gets
 /// `(model_error avar)^2` more, independently.
-fn whitening(
-    points: &[Point],
-    sampling: Sampling,
-    cov: &PointCov,
-    model: &NoiseModel,
-    model_error: f64,
-) -> Result<Whitening, String> {
+fn whitening(points: &[Point], cov: &PointCov, model: &NoiseModel, model_error: f64) -> Result<Whitening, String> {
     let n = points.len();
+    let expected = cov.expected_of(model);
     let scale: Vec<f64> = points
         .iter()
-        .map(|p| {
-            let e = sampling.expected_avar(model, p.m);
+        .zip(&expected)
+        .map(|(p, &e)| {
             if e > 0.0 {
                 (VAR_FLOOR * p.avar / e).max(1.0)
             } else {

@@ -64,33 +64,31 @@ impl Sampling {
     /// quantisation is white noise of the integrated angle (variance Q^2), so it enters only
     /// where window ends coincide.
     fn window_cov(&self, model: &NoiseModel, ma: i64, mb: i64, delta: i64) -> (f64, f64) {
+        if !self.is_contiguous() {
+            return (means_of_means(ma, mb, delta, |q| self.value_cov(model, q)), 0.0);
+        }
         let step = self.step_s;
         let (fa, fb) = (ma as f64, mb as f64);
-        if self.is_contiguous() {
-            let (ta, tb) = (fa * step, fb * step);
-            let centres = (delta as f64 + (fb - fa) / 2.0) * step;
-            let overlap = ((ma.min(delta + mb) - delta.max(0)).max(0)) as f64 * step;
-            let w = model.white_dph_rts();
-            let smooth = model.coloured_cov(centres, ta, tb) + w * w * overlap / (ta * tb);
-            let same = |x: i64, y: i64| f64::from(u8::from(x == y));
-            let ends = same(ma, delta + mb) - same(ma, delta) - same(0, delta + mb) + same(0, delta);
-            return (smooth, model.quantization_arcsec.powi(2) * ends / (ta * tb));
-        }
-        // Means of means with dead time: each pair of values by its lag, counted.
-        let win = self.window_s;
-        let one = |q: i64| model.mean_cov(q as f64 * step, win, win, q == 0);
-        let pairs = |d: i64| (ma.min(mb - d) - (-d).max(0)).max(0) as f64;
-        let sum: f64 = (1 - ma..mb).map(|d| pairs(d) * one(delta + d)).sum();
-        (sum / (fa * fb), 0.0)
+        let (ta, tb) = (fa * step, fb * step);
+        let centres = (delta as f64 + (fb - fa) / 2.0) * step;
+        let overlap = ((ma.min(delta + mb) - delta.max(0)).max(0)) as f64 * step;
+        let w = model.white_dph_rts();
+        let smooth = model.coloured_cov(centres, ta, tb) + w * w * overlap / (ta * tb);
+        let same = |x: i64, y: i64| f64::from(u8::from(x == y));
+        let ends = same(ma, delta + mb) - same(ma, delta) - same(0, delta + mb) + same(0, delta);
+        (smooth, model.quantization_arcsec.powi(2) * ends / (ta * tb))
+    }
+
+    /// Covariance of two values `q` steps apart (means over the window, with dead time).
+    fn value_cov(&self, model: &NoiseModel, q: i64) -> f64 {
+        model.mean_cov(q as f64 * self.step_s, self.window_s, self.window_s, q == 0)
     }
 
     /// Covariance of the second differences `ybar(i + ma) - ybar(i)` at `ma` and at `mb` with
     /// `j - i = lag`, as (smooth, quantisation) parts.
     fn diff_cov(&self, model: &NoiseModel, ma: usize, mb: usize, lag: i64) -> (f64, f64) {
         let (ma, mb) = (ma as i64, mb as i64);
-        let k = |d: i64| self.window_cov(model, ma, mb, d);
-        let (a, b, c, d) = (k(lag + mb - ma), k(lag - ma), k(lag + mb), k(lag));
-        (a.0 - b.0 - c.0 + d.0, a.1 - b.1 - c.1 + d.1)
+        second_differences(ma, mb, lag, |d| self.window_cov(model, ma, mb, d))
     }
 
     /// Covariance of the Allan variance estimates at factors `ma` and `mb`, pooled over
@@ -102,33 +100,57 @@ impl Sampling {
     /// The covariances of the second differences at `ma` and `mb` over the lags that matter,
     /// under `model`: linear in its terms' variances.
     pub fn lag_grid(&self, model: &NoiseModel, ma: usize, mb: usize) -> LagGrid {
-        let (ia, ib) = (ma as i64, mb as i64);
-        let reach = LAG_SPAN * ia.max(ib);
-        let span = 2 * (ia + ib) + 2 * reach;
-        let stride = (ia.min(ib) / LAG_STEPS).max(span / MAX_GRID).max(1) as u64;
-        let stride = stride.next_power_of_two() as i64;
-        let (lo, hi) = ((-2 * ib - reach) / stride * stride, (2 * ia + reach) / stride * stride);
-        let smooth = (lo..=hi)
-            .step_by(stride as usize)
-            .map(|l| self.diff_cov(model, ma, mb, l).0)
-            .collect();
-        // Quantisation: only at lags where ends of the two differences coincide.
-        let mut lags: Vec<i64> = [0, ia, 2 * ia]
+        self.lag_grids(model, &[(ma, mb)]).remove(0)
+    }
+
+    /// [`Sampling::lag_grid`] of each pair of factors.
+    pub fn lag_grids(&self, model: &NoiseModel, pairs: &[(usize, usize)]) -> Vec<LagGrid> {
+        let spans: Vec<GridSpan> = pairs
             .iter()
-            .flat_map(|ea| [0, ib, 2 * ib].map(|eb| ea - eb))
+            .map(|&(ma, mb)| GridSpan::of(ma as i64, mb as i64))
             .collect();
-        lags.sort_unstable();
-        lags.dedup();
-        let spikes = lags.into_iter().map(|l| (l, self.diff_cov(model, ma, mb, l))).collect();
-        LagGrid {
-            ma: ia,
-            mb: ib,
-            lo,
-            hi,
-            stride,
-            smooth,
-            spikes,
-        }
+        // With dead time every window is a sum over values: their covariances by lag are
+        // computed once for every lag the grids reach, not once per window (20 000 dwell
+        // means took half a minute).
+        let table = (!self.is_contiguous() && !spans.is_empty()).then(|| {
+            let first = spans.iter().map(|g| g.lo - 2 * g.ma + 1).min().unwrap_or(0);
+            let end = spans.iter().map(|g| g.hi + 2 * g.mb).max().unwrap_or(0);
+            let values: Vec<f64> = (first..end).map(|q| self.value_cov(model, q)).collect();
+            (first, values)
+        });
+        spans
+            .into_iter()
+            .map(|g| {
+                let (ia, ib) = (g.ma, g.mb);
+                let diff_cov = |l: i64| match &table {
+                    Some((first, values)) => second_differences(ia, ib, l, |d| {
+                        (means_of_means(ia, ib, d, |q| values[(q - first) as usize]), 0.0)
+                    }),
+                    None => self.diff_cov(model, ia as usize, ib as usize, l),
+                };
+                let smooth = (g.lo..=g.hi)
+                    .step_by(g.stride as usize)
+                    .map(|l| diff_cov(l).0)
+                    .collect();
+                // Quantisation: only at lags where ends of the two differences coincide.
+                let mut lags: Vec<i64> = [0, ia, 2 * ia]
+                    .iter()
+                    .flat_map(|ea| [0, ib, 2 * ib].map(|eb| ea - eb))
+                    .collect();
+                lags.sort_unstable();
+                lags.dedup();
+                let spikes = lags.into_iter().map(|l| (l, diff_cov(l))).collect();
+                LagGrid {
+                    ma: ia,
+                    mb: ib,
+                    lo: g.lo,
+                    hi: g.hi,
+                    stride: g.stride,
+                    smooth,
+                    spikes,
+                }
+            })
+            .collect()
     }
 
     /// The pooled covariance of the Allan variance estimates from their lag grid.
@@ -182,6 +204,46 @@ impl Sampling {
         let e = self.expected_avar(model, m);
         2.0 * e * e / self.avar_cov(model, m, m, lens)
     }
+}
+
+/// The lags a pair of factors' grid covers, and its stride.
+struct GridSpan {
+    ma: i64,
+    mb: i64,
+    lo: i64,
+    hi: i64,
+    stride: i64,
+}
+
+impl GridSpan {
+    fn of(ma: i64, mb: i64) -> GridSpan {
+        let reach = LAG_SPAN * ma.max(mb);
+        let span = 2 * (ma + mb) + 2 * reach;
+        let stride = (ma.min(mb) / LAG_STEPS).max(span / MAX_GRID).max(1) as u64;
+        let stride = stride.next_power_of_two() as i64;
+        GridSpan {
+            ma,
+            mb,
+            lo: (-2 * mb - reach) / stride * stride,
+            hi: (2 * ma + reach) / stride * stride,
+            stride,
+        }
+    }
+}
+
+/// Covariance of the means of `ma` values from 0 and of `mb` values from `delta`, from the
+/// covariance `one(q)` of two values `q` apart: each pair of values by its lag, counted.
+fn means_of_means(ma: i64, mb: i64, delta: i64, one: impl Fn(i64) -> f64) -> f64 {
+    let pairs = |d: i64| (ma.min(mb - d) - (-d).max(0)).max(0) as f64;
+    let sum: f64 = (1 - ma..mb).map(|d| pairs(d) * one(delta + d)).sum();
+    sum / (ma as f64 * mb as f64)
+}
+
+/// Covariance of the second differences at `ma` and `mb`, `lag` apart, from the covariance
+/// `k(delta)` of their windows (the window at `mb` starting `delta` after the one at `ma`).
+fn second_differences(ma: i64, mb: i64, lag: i64, k: impl Fn(i64) -> (f64, f64)) -> (f64, f64) {
+    let (a, b, c, d) = (k(lag + mb - ma), k(lag - ma), k(lag + mb), k(lag));
+    (a.0 - b.0 - c.0 + d.0, a.1 - b.1 - c.1 + d.1)
 }
 
 /// The covariances of two second differences (at factors `ma`, `mb`) at each lag of a grid
