@@ -18,6 +18,9 @@ use crate::{EARTH_RATE_DPH, Float, c, positive, sqrt};
 /// Most unknowns a fit can have: C, A, B, two drift terms and two more harmonics.
 pub const MAX_TERMS: usize = 9;
 
+/// Smallest pivot, relative to the largest, at which the solver moves its reference.
+const RECENTER_CONDITION: f64 = 1e-3;
+
 /// Why a fit could not be made.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -151,10 +154,13 @@ impl<F: Float> Lsq<F> {
         self.recenter();
     }
 
-    /// Moves the reference onto the current solution, leaving `z = 0`.
+    /// Moves the reference onto the current solution, leaving `z = 0`; not while the factor
+    /// is near singular (a run that starts on two opposite angles has a sine column of
+    /// rounding size), whose solution would put a huge reference into every later row.
     fn recenter(&mut self) {
         let p = self.p;
-        if (self.n as usize) < p || (0..p).any(|i| self.r[i][i] == F::zero()) {
+        let scale = (0..p).map(|i| self.r[i][i].abs()).fold(F::zero(), F::max);
+        if (self.n as usize) < p || (0..p).any(|i| self.r[i][i].abs() <= scale * c(RECENTER_CONDITION)) {
             return;
         }
         let mut d = [F::zero(); MAX_TERMS];

@@ -109,6 +109,46 @@ fn f32_azimuth_within_0_1_arcsec_of_f64_for_4_to_720_positions() {
 }
 
 #[test]
+fn a_run_that_starts_on_two_opposite_angles_fits_as_well_in_f32() {
+    // Visits 0, 180, 180, 0 first, as measured by an encoder (180 deg to within a count): the
+    // sine column is nearly zero until the third angle, and a solver that takes its tiny
+    // pivot as a solution carries a huge B into every later row.
+    let inst = Instrument {
+        latitude_deg: 43.8,
+        psi_deg: 65.5378,
+        bias_dph: 3.0,
+        ..Instrument::level(0.0, 0.0)
+    };
+    let mut rng = Rng::new(5);
+    let visits = [0.0, 180.0001, 180.0001, 0.0, 45.0, 225.0, 90.0, 270.0, 135.0, 315.0];
+    for start in [0.0, 10.0, 123.4] {
+        let obs: Vec<Obs<f64>> = visits
+            .iter()
+            .enumerate()
+            .map(|(i, g)| {
+                let g = (g + start) % 360.0;
+                Obs {
+                    t_s: i as f64 * 2.5,
+                    ..Obs::new(g, inst.rate_dph(g) + 0.005 * rng.gauss())
+                }
+            })
+            .collect();
+        let o32: Vec<Obs<f32>> = obs
+            .iter()
+            .map(|o| Obs {
+                t_s: o.t_s as f32,
+                ..Obs::new(o.gamma_deg as f32, o.rate_dph as f32)
+            })
+            .collect();
+        let r32 = AzimuthFit::fit_all(FitConfig::default(), &o32).unwrap();
+        let r64 = AzimuthFit::fit_all(FitConfig::default(), &obs).unwrap();
+        let d = wrap_180(r32.psi_deg as f64 - r64.psi_deg).abs() * 3600.0;
+        assert!(d < 0.1, "start {start}: f32 {} against f64 {} ({d}\")", r32.psi_deg, r64.psi_deg);
+        assert!(wrap_180(r64.psi_deg - inst.psi_deg).abs() < 0.1, "{}", r64.psi_deg);
+    }
+}
+
+#[test]
 fn incremental_fit_equals_batch_fit_of_every_prefix() {
     let mut rng = Rng::new(11);
     let (_, obs) = run(&mut rng, 40, 0.01, false);
