@@ -138,6 +138,9 @@ struct Summary<'a> {
     truth_deg: f64,
 }
 
+/// Degrees of freedom below which the residual sigma is called rough.
+const FEW_DOF: u32 = 5;
+
 impl Summary<'_> {
     fn print(&self, report: &RunReport) -> std::io::Result<()> {
         let mut o = std::io::stdout().lock();
@@ -161,7 +164,15 @@ impl Summary<'_> {
                 "surveying azimuth {:.5} deg of the gamma = 0 direction",
                 nf_model::angle::surveying_azimuth_deg(a.psi_deg)
             )?;
+            // C, A and B: a residual sigma on a handful of degrees of freedom is itself a
+            // guess, a tenth or ten times the true one.
+            let dof = a.n.saturating_sub(3);
+            let rough = dof < FEW_DOF;
             match a.sigma_arcsec {
+                Some(s) if rough => writeln!(
+                    o,
+                    "uncertainty       {s:.2} arcsec (1 sigma, from the residuals with only {dof} degree(s) of freedom: rough; see the noise model's below)"
+                )?,
                 Some(s) => writeln!(o, "uncertainty       {s:.2} arcsec (1 sigma, from the residuals)")?,
                 None => writeln!(o, "uncertainty       undefined (0 dof: as many unknowns as positions)")?,
             }
@@ -173,8 +184,8 @@ impl Summary<'_> {
             )?;
             write!(o, "twin's true psi   {:.5} deg: error {err:+.2} arcsec", self.truth_deg)?;
             match a.sigma_arcsec {
-                Some(s) => writeln!(o, " = {:+.2} sigma", err / s as f64)?,
-                None => writeln!(o)?,
+                Some(s) if !rough => writeln!(o, " = {:+.2} sigma", err / s as f64)?,
+                _ => writeln!(o)?,
             }
         }
         if let Some(u) = report.under_noise {
