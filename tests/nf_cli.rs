@@ -375,6 +375,31 @@ fn an_earth_rate_not_resolved_gives_no_azimuth_in_fit_or_diagnose() {
 }
 
 #[test]
+fn a_run_that_starts_on_a_repeated_opposite_pair_fits_with_its_tilt() {
+    // Visits 10, 190, 10, 190, then 10 to 360 by 10, on a shaft tilted 0.002 deg: the fit
+    // once lost its precision on the first four rows and the exact tilt correction then never
+    // converged (exit 1, no azimuth).
+    let h = 15.041 * 43.8f64.to_radians().cos();
+    let mut angles = vec![10.0, 190.0, 10.0, 190.0];
+    angles.extend((1..=36).map(|k| 10.0 * k as f64 % 360.0));
+    let mut text = String::from("# format = northfinder-recording/1\n# latitude_deg = 43.8\n# dwell_s = 2\n");
+    text += "index,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg\n";
+    for (k, g) in angles.iter().enumerate() {
+        let (x, y) = (-0.002 * (g - 140.0f64).to_radians().cos(), 0.002 * (g - 140.0f64).to_radians().sin());
+        let noise = 0.004 * ((k as f64 * 0.618_034).fract() - 0.5);
+        text += &format!("{k},{},{g},{},{x},{y}\n", 2.5 * k as f64 + 1.0, 3.0 + h * (g + 65.5f64).to_radians().cos() + noise);
+    }
+    let file = tmp("repeated_pair.csv");
+    std::fs::write(&file, text).unwrap();
+    let (code, out, err) = nf(&["fit", &file, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["tilt_correction"], "exact");
+    let z = (j["azimuth_deg"].as_f64().unwrap() - 65.5) * 3600.0 / j["sigma_arcsec"].as_f64().unwrap();
+    assert!(z.abs() < 3.0, "{z}: {j}");
+}
+
+#[test]
 fn plan_budget_target_and_monte_carlo() {
     let (code, out, err) = nf(&["plan", "--target", "15", "--mc-runs", "300", "--json"]);
     assert_eq!(code, 0, "{err}");

@@ -15,6 +15,9 @@ use nf_model::level::ShaftTilt;
 const MAX_ITERATIONS: u32 = 50;
 /// Convergence: the azimuth moves less than this between iterations, deg.
 const PSI_TOL_DEG: f64 = 1e-9;
+/// A point whose azimuth step is below this (0.004"), when the iterations never met
+/// `PSI_TOL_DEG`, is taken: far below any sigma, and an answer beats none.
+const NEAR_ENOUGH_DEG: f64 = 1e-6;
 
 /// The correction of each position, and how it was made.
 #[derive(Debug, Clone)]
@@ -158,6 +161,8 @@ pub fn correct(
                 let (p, a) = fit(&corr)?;
                 Ok(([wrap_180(p - psi), a - amp], corr))
             };
+            // The closest point met, for when rounding keeps the step from the tolerance.
+            let mut closest: Option<(f64, Vec<f64>)> = None;
             for k in 1..=MAX_ITERATIONS {
                 let (g, c) = eval(psi, amp)?;
                 if g[0].abs() < PSI_TOL_DEG && g[1].abs() < 1e-12 * amp.abs().max(1e-6) {
@@ -168,6 +173,9 @@ pub fn correct(
                         iterations: k,
                         ..none
                     });
+                }
+                if closest.as_ref().is_none_or(|(d, _)| g[0].abs() < *d) {
+                    closest = Some((g[0].abs(), c));
                 }
                 let (hp, ha) = (1e-6, 1e-6 * amp.abs().max(1e-3));
                 let (gp, _) = eval(psi + hp, amp)?;
@@ -188,9 +196,18 @@ pub fn correct(
                 psi += dp.clamp(-30.0, 30.0);
                 amp = (amp + da).max(1e-9);
             }
-            Err(format!(
-                "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations"
-            ))
+            match closest {
+                Some((d, corrections)) if d < NEAR_ENOUGH_DEG => Ok(Tilt {
+                    corrections,
+                    shaft: Some(t),
+                    bridged,
+                    iterations: MAX_ITERATIONS,
+                    ..none
+                }),
+                _ => Err(format!(
+                    "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations"
+                )),
+            }
         }
     }
 }
