@@ -385,9 +385,16 @@ fn a_run_that_starts_on_a_repeated_opposite_pair_fits_with_its_tilt() {
     let mut text = String::from("# format = northfinder-recording/1\n# latitude_deg = 43.8\n# dwell_s = 2\n");
     text += "index,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg\n";
     for (k, g) in angles.iter().enumerate() {
-        let (x, y) = (-0.002 * (g - 140.0f64).to_radians().cos(), 0.002 * (g - 140.0f64).to_radians().sin());
+        let (x, y) = (
+            -0.002 * (g - 140.0f64).to_radians().cos(),
+            0.002 * (g - 140.0f64).to_radians().sin(),
+        );
         let noise = 0.004 * ((k as f64 * 0.618_034).fract() - 0.5);
-        text += &format!("{k},{},{g},{},{x},{y}\n", 2.5 * k as f64 + 1.0, 3.0 + h * (g + 65.5f64).to_radians().cos() + noise);
+        text += &format!(
+            "{k},{},{g},{},{x},{y}\n",
+            2.5 * k as f64 + 1.0,
+            3.0 + h * (g + 65.5f64).to_radians().cos() + noise
+        );
     }
     let file = tmp("repeated_pair.csv");
     std::fs::write(&file, text).unwrap();
@@ -397,6 +404,52 @@ fn a_run_that_starts_on_a_repeated_opposite_pair_fits_with_its_tilt() {
     assert_eq!(j["tilt_correction"], "exact");
     let z = (j["azimuth_deg"].as_f64().unwrap() - 65.5) * 3600.0 / j["sigma_arcsec"].as_f64().unwrap();
     assert!(z.abs() < 3.0, "{z}: {j}");
+}
+
+#[test]
+fn first_order_tilt_is_warned_against_at_degrees_and_needs_tilt_x() {
+    let h = 15.041 * 43.8f64.to_radians().cos();
+    let write = |name: &str, tilt: f64, columns: &str| {
+        let mut text = format!(
+            "# format = northfinder-recording/1\n# latitude_deg = 43.8\nindex,t_s,encoder_deg,rate_dph,{columns}\n"
+        );
+        for k in 0..36 {
+            let g = 10.0 * k as f64;
+            let (x, y) = (
+                -tilt * (g - 140.0f64).to_radians().cos(),
+                tilt * (g - 140.0f64).to_radians().sin(),
+            );
+            let cells = if columns.contains(',') {
+                format!("{x},{y}")
+            } else {
+                format!("{y}")
+            };
+            text += &format!(
+                "{k},{},{g},{},{cells}\n",
+                2 * k + 1,
+                3.0 + h * (g + 65.5f64).to_radians().cos()
+            );
+        }
+        let file = tmp(name);
+        std::fs::write(&file, text).unwrap();
+        file
+    };
+    let steep = write("steep.csv", 3.0, "tilt_x_deg,tilt_y_deg");
+    let (code, out, err) = nf(&["fit", &steep, "--tilt", "first-order"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("WARNING: the shaft is tilted 3.00 deg"), "{out}");
+    let (_, out, _) = nf(&["fit", &steep]);
+    assert!(!out.contains("WARNING"), "{out}");
+    let gentle = write("gentle.csv", 0.3, "tilt_x_deg,tilt_y_deg");
+    let (_, out, _) = nf(&["fit", &gentle, "--tilt", "first-order"]);
+    assert!(out.contains("first order") && !out.contains("WARNING"), "{out}");
+    let y_only = write("y_only.csv", 0.3, "tilt_y_deg");
+    let (code, _, err) = nf(&["fit", &y_only, "--tilt", "first-order"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("reads tilt_x_deg, which the recording does not have"),
+        "{err}"
+    );
 }
 
 #[test]

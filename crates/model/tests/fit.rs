@@ -143,7 +143,12 @@ fn a_run_that_starts_on_two_opposite_angles_fits_as_well_in_f32() {
         let r32 = AzimuthFit::fit_all(FitConfig::default(), &o32).unwrap();
         let r64 = AzimuthFit::fit_all(FitConfig::default(), &obs).unwrap();
         let d = wrap_180(r32.psi_deg as f64 - r64.psi_deg).abs() * 3600.0;
-        assert!(d < 0.1, "start {start}: f32 {} against f64 {} ({d}\")", r32.psi_deg, r64.psi_deg);
+        assert!(
+            d < 0.1,
+            "start {start}: f32 {} against f64 {} ({d}\")",
+            r32.psi_deg,
+            r64.psi_deg
+        );
         assert!(wrap_180(r64.psi_deg - inst.psi_deg).abs() < 0.1, "{}", r64.psi_deg);
     }
 }

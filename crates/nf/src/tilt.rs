@@ -135,6 +135,8 @@ pub fn correct(
             Ok(Tilt {
                 corrections: x.iter().map(|&x| vertical_earth_rate_dph(lat, x)).collect(),
                 bridged,
+                // Measured, not used: so the output can say how large a tilt first order took.
+                shaft: circle(rec).ok(),
                 ..none
             })
         }
@@ -227,6 +229,12 @@ fn bridged_x(rec: &Recording) -> Result<(Vec<f64>, usize), String> {
         .filter_map(|r| Some(Obs::new(r.encoder_deg, r.tilt_x_deg?)))
         .collect();
     let missing = rec.rows.len() - obs.len();
+    if obs.is_empty() {
+        return Err(
+            "the first-order tilt correction reads tilt_x_deg, which the recording does not have; the exact one (--tilt exact, or auto) reads tilt_y_deg alone"
+                .into(),
+        );
+    }
     if missing == 0 {
         return Ok((rec.rows.iter().filter_map(|r| r.tilt_x_deg).collect(), 0));
     }

@@ -15,6 +15,9 @@ use nf_model::fit::Drift;
 use nf_model::noise::NoiseModel;
 use std::io::Write;
 
+/// Tilt (deg) above which a requested first-order correction is warned against.
+const FIRST_ORDER_MAX_DEG: f64 = 1.0;
+
 mod json;
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -199,8 +202,15 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             },
             rec.rows.len() - an.tilt_bridged
         )?,
-        (TiltMethod::FirstOrder, _) => {
-            writeln!(out, "tilt           corrected per position from tilt_x (first order)")?
+        (TiltMethod::FirstOrder, shaft) => {
+            writeln!(out, "tilt           corrected per position from tilt_x (first order)")?;
+            if let Some(s) = shaft.filter(|s| s.tilt_deg > FIRST_ORDER_MAX_DEG) {
+                writeln!(
+                    out,
+                    "               WARNING: the shaft is tilted {:.2} deg; first order leaves an error of the order of the tilt squared, tens of sigma at a few degrees: --tilt exact",
+                    s.tilt_deg
+                )?
+            }
         }
         _ => writeln!(
             out,
