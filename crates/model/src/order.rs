@@ -232,6 +232,14 @@ impl Order {
     pub fn positions(&self, n: u16) -> impl Iterator<Item = u16> + '_ {
         (0..self.visits(n)).map(move |j| self.position(n, j))
     }
+
+    /// How many different positions the run visits: Eq. 7's `C`, `A` and `B` need three.
+    pub fn distinct_positions(&self, n: u16) -> u16 {
+        let v = self.visits(n);
+        (0..v)
+            .filter(|&j| (0..j).all(|i| self.position(n, i) != self.position(n, j)))
+            .count() as u16
+    }
 }
 
 #[cfg(feature = "defmt")]

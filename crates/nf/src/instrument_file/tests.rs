@@ -173,7 +173,7 @@ fn integers_are_accepted_where_reals_are_expected() {
 
 #[test]
 fn bad_values_are_named_with_their_line() {
-    let cases: [(&str, usize, &str); 13] = [
+    let cases: [(&str, usize, &str); 14] = [
         ("[site]\nlatitude_deg = 95\n", 3, "outside [-89, 89]"),
         ("[site]\nlatitude_deg = nan\n", 3, "outside"),
         ("[gyro]\nbias_dph = \"1\"\n", 3, "invalid type"),
@@ -182,6 +182,11 @@ fn bad_values_are_named_with_their_line() {
         ("[run]\npositions = 3\n", 3, "outside [4, 720]"),
         ("[run]\norder = \"spiral\"\n", 3, "spiral"),
         ("[run]\norder = \"opposite-pairs\"\npositions = 7\n", 3, "order"),
+        (
+            "[run]\npositions = 8\norder = \"0,4,0,4\"\n",
+            4,
+            "2 different position(s)",
+        ),
         (
             "[[disturbance]]\nfrom_s = 5\nto_s = 4\nsize_dph = 1\n",
             4,
