@@ -118,6 +118,11 @@ fn a_bias_jump_is_found_with_its_time_and_size() {
     assert!(f.after.rss < d.baseline.rss);
     let err = |a: f64| nf_model::angle::wrap_180(a - twin.instrument.psi_deg).abs() * 3600.0;
     assert!(err(d.final_.azimuth_deg) < err(d.baseline.azimuth_deg));
+    // The plot's fitted step lies on Eq. 7's residuals (their share of C, A and B taken out):
+    // the residuals, which hold the true step, regress on it with the slope true / fitted.
+    let dot = |a: &dyn Fn(&nf::diagnose::Point) -> f64| d.points.iter().map(|p| a(p) * p.fitted).sum::<f64>();
+    let slope = dot(&|p| p.before) / dot(&|p| p.fitted);
+    assert!((slope - 0.08 / size.value).abs() < 0.2, "{slope} {size:?}");
 }
 
 #[test]

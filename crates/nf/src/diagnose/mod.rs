@@ -77,7 +77,8 @@ pub struct Point {
     pub before: f64,
     /// Residual of the selected model, deg/h.
     pub after: f64,
-    /// The named effects' fitted contribution (tilt included), deg/h.
+    /// The named effects' fitted contribution (tilt included) less its part in Eq. 7's
+    /// columns, as the residuals `before` hold it, deg/h.
     pub fitted: f64,
 }
 
@@ -211,14 +212,25 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     }
     let before = base_residuals(&d, &base);
     let after = sel.model.raw_residuals(&sel.fit);
-    let fitted = sel.model.effects_fitted(&sel.fit);
+    // Drawn over the residuals of Eq. 7, the findings are shown as those residuals hold them:
+    // with their share of C, A cos and B sin taken out (a jump's step about its mean), by the
+    // baseline's own fit (under the noise model).
+    let effects: Vec<f64> = sel
+        .model
+        .effects_fitted(&sel.fit)
+        .iter()
+        .zip(&tilt_fitted)
+        .map(|(e, t)| e + t)
+        .collect();
+    let eq7 = Model::new(d.base_cols(), effects.clone(), w);
+    let fitted = eq7.fit().map_or(effects, |f| eq7.raw_residuals(&f));
     let points = (0..n)
         .map(|i| Point {
             t_s: d.t[i],
             gamma_deg: d.gamma[i],
             before: before[i],
             after: after[i],
-            fitted: fitted[i] + tilt_fitted[i],
+            fitted: fitted[i],
         })
         .collect();
     Ok(Diagnosis {
