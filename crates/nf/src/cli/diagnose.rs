@@ -89,12 +89,10 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         .map_err(|e| Fail(format!("{path}: {e}"), 2))?;
     // Past this many positions a diagnosis takes more than a second, and a spinner says so
     // (on a terminal only).
-    let spinner = (rec.rows.len() > SLOW_POSITIONS).then(|| {
-        let s = indicatif::ProgressBar::new_spinner();
-        s.set_message(format!("diagnosing {} positions", rec.rows.len()));
-        s.enable_steady_tick(std::time::Duration::from_millis(120));
-        s
-    });
+    let spinner = super::spinner(
+        rec.rows.len() > SLOW_POSITIONS,
+        format!("diagnosing {} positions", rec.rows.len()),
+    );
     let d = diagnose(&rec, &opt);
     if let Some(s) = spinner {
         s.finish_and_clear();

@@ -15,6 +15,9 @@ use nf_model::fit::Drift;
 use nf_model::noise::NoiseModel;
 use std::io::Write;
 
+/// Positions past which the bootstrap takes seconds and a spinner says so.
+const SLOW_FIT_POSITIONS: usize = 2000;
+
 /// Tilt (deg) above which a requested first-order correction is warned against.
 const FIRST_ORDER_MAX_DEG: f64 = 1.0;
 
@@ -107,7 +110,20 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             )
         })
         .map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;
-    let an = analyse(&rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
+    // Each bootstrap replicate costs a noise estimate: past 2000 positions that is seconds.
+    let spinner = super::spinner(
+        rec.rows.len() > SLOW_FIT_POSITIONS && a.replicates > 0,
+        format!(
+            "fitting {} positions and {} bootstrap replicates (--replicates 0 skips them)",
+            rec.rows.len(),
+            a.replicates
+        ),
+    );
+    let an = analyse(&rec, &opt);
+    if let Some(s) = spinner {
+        s.finish_and_clear();
+    }
+    let an = an.map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
     if let Some(p) = &a.plot {
         plot::write(p, &fit_panels(&an))?;
     }

@@ -121,6 +121,16 @@ pub fn main() -> ExitCode {
 /// repeat one on every line.
 const WARNINGS_SHOWN: usize = 10;
 
+/// A spinner with `message` while a long job runs (on a terminal only), when `slow`.
+pub(crate) fn spinner(slow: bool, message: String) -> Option<indicatif::ProgressBar> {
+    slow.then(|| {
+        let s = indicatif::ProgressBar::new_spinner();
+        s.set_message(message);
+        s.enable_steady_tick(std::time::Duration::from_millis(120));
+        s
+    })
+}
+
 pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
     let rec = Recording::read(path).map_err(|e| Fail(e.to_string(), 2))?;
     for w in rec.warnings.iter().take(WARNINGS_SHOWN) {
