@@ -126,6 +126,43 @@ fn a_bias_jump_is_found_with_its_time_and_size() {
 }
 
 #[test]
+fn of_rival_explanations_the_one_the_averaging_weighs_most_is_named() {
+    // An encoder error and a jump together: at the first step both are significant, and the
+    // one named must be the one whose model the averaging weighs most.
+    let mut contested = 0;
+    for seed in 1..=40 {
+        let mut twin = quiet_twin(seed);
+        twin.encoder_error[0] = nf_twin::EncoderHarmonic {
+            harmonic: 2,
+            amplitude_arcsec: 500.0,
+            phase_deg: 10.0 * seed as f64,
+        };
+        twin.bias_jump = Some(nf_twin::BiasJump {
+            time_s: 40.0,
+            size_dph: 0.05,
+        });
+        let d = diagnose(&recording(&twin), &Options::default()).unwrap();
+        let Some(first) = d.findings.iter().find(|f| !f.effect.is_noise()) else {
+            continue;
+        };
+        // The models in the order met: Eq. 7, the first step's alternatives, its choice, ...
+        let chosen = d.models.iter().position(|m| m.label == first.effect.name()).unwrap();
+        for m in &d.models[1..chosen] {
+            contested += 1;
+            let named = d.models[chosen].weight;
+            assert!(
+                named >= m.weight,
+                "seed {seed}: {} {named} against {} {}",
+                first.effect.name(),
+                m.label,
+                m.weight
+            );
+        }
+    }
+    assert!(contested >= 4, "{contested} contested steps");
+}
+
+#[test]
 fn a_second_harmonic_encoder_error_shows_in_the_third_harmonic_and_is_removed() {
     let mut twin = quiet_twin(4);
     // 600": the third harmonic it makes is about ten times its standard error here.

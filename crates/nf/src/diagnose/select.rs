@@ -154,6 +154,24 @@ impl<'a> Selector<'a> {
             seen.push(c.kind);
             fresh
         });
+        // Among significant models the one the averaging weighs most leads: p-values of tests
+        // under different noise models do not rank explanations.
+        let bic = |c: &Proposal| match &c.change {
+            Change::Columns(cols) => model.with(Some(c.kind), cols.clone(), self.whitener).fit().map(|f| {
+                let n = f.resid.len() as f64;
+                n * (f.rss / n).ln() + (f.coef.len() + c.scanned) as f64 * n.ln()
+            }),
+            _ => None,
+        };
+        if cands.first().is_some_and(|c| matches!(c.change, Change::Columns(_))) {
+            let best = (0..cands.len())
+                .filter_map(|i| Some((i, bic(&cands[i])?)))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            if let Some((i, _)) = best {
+                let c = cands.remove(i);
+                cands.insert(0, c);
+            }
+        }
         cands
     }
 }
