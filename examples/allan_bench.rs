@@ -2,7 +2,8 @@
 //! the mean and spread of the fitted N, B, K, the RMS of (fitted - true) / stated sigma, and
 //! how often quantisation or a Gauss-Markov term was (falsely) kept.
 //!
-//! `cargo run --release --example allan_bench -- [seeds]` (default 100): 4 h logs at 10 Hz.
+//! `cargo run --release --example allan_bench -- [seeds] [hours] [rate_hz]` (default 100 seeds
+//! of 4 h logs at 10 Hz).
 
 use nf::allan_fit::{AllanFit, Term, fit_series};
 use nf::allan_model::Sampling;
@@ -19,21 +20,35 @@ fn truth_of(m: &NoiseModel, t: Term) -> f64 {
     }
 }
 
-fn fit(noise: NoiseModel, seed: u64) -> AllanFit {
+/// How long the logs are and how fast they are sampled.
+#[derive(Clone, Copy)]
+struct Length {
+    hours: f64,
+    rate_hz: f64,
+}
+
+fn fit(noise: NoiseModel, seed: u64, len: Length) -> AllanFit {
     let log = StaticLog {
         noise,
         rate_dph: 7.3,
-        sample_rate_hz: 10.0,
-        duration_s: 4.0 * 3600.0,
+        sample_rate_hz: len.rate_hz,
+        duration_s: len.hours * 3600.0,
         seed,
     };
     let mut y = Vec::new();
     log.samples(|_, r| y.push(r));
-    fit_series(&[&y], Sampling::contiguous(0.1)).expect("a 4 h log fits").1
+    fit_series(&[&y], Sampling::contiguous(1.0 / len.rate_hz))
+        .expect("the log fits")
+        .1
 }
 
 fn main() {
-    let seeds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(100);
+    let arg = |i: usize| std::env::args().nth(i).and_then(|s| s.parse::<f64>().ok());
+    let seeds = arg(1).unwrap_or(100.0) as u64;
+    let len = Length {
+        hours: arg(2).unwrap_or(4.0),
+        rate_hz: arg(3).unwrap_or(10.0),
+    };
     let white = NoiseModel {
         arw_deg_rth: 0.002,
         ..NoiseModel::WHITE_NONE
@@ -56,9 +71,12 @@ fn main() {
         ),
         ("N only", white),
     ];
-    println!("{seeds} seeds per case, 4 h at 10 Hz; per term: true, mean fitted +- sd, RMS z (nonzero terms)");
+    println!(
+        "{seeds} seeds per case, {} h at {} Hz; per term: true, mean fitted +- sd, RMS z (nonzero terms)",
+        len.hours, len.rate_hz
+    );
     for (name, truth) in cases {
-        let fits: Vec<AllanFit> = (0..seeds).map(|s| fit(truth, 1000 + s)).collect();
+        let fits: Vec<AllanFit> = (0..seeds).map(|s| fit(truth, 1000 + s, len)).collect();
         let k = seeds as f64;
         let mut line = format!("{name:<10}");
         for (t, label) in TERMS {
