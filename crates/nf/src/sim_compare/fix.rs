@@ -277,13 +277,15 @@ pub fn moments(
         .any(|p| p.kind.is_noise() && p.kind != Kind::HeavyTails && p.verdict != Verdict::Modelled);
     let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
     let within_dwell = |q: Quantity| matches!(q, Quantity::SampleSd | Quantity::QuarterSd);
-    if !noise_named && !cmp.any(|q| is_noise(q) && !within_dwell(q)) && cmp.any(within_dwell) {
-        // Only the noise within a dwell differs: the white level, which thousands of samples
-        // measure better than the recording's estimate from its dwell means does.
-        let (q, (r, s)) = [Quantity::SampleSd, Quantity::QuarterSd]
-            .into_iter()
-            .find_map(|q| Some((q, off(q)?)))
-            .expect("a within-dwell quantity differs");
+    // Only the noise within a dwell differs: the white level, which thousands of samples
+    // measure better than the recording's estimate from its dwell means does (a file with
+    // no white noise to scale takes the estimate).
+    let white_scale = [Quantity::SampleSd, Quantity::QuarterSd]
+        .into_iter()
+        .find_map(|q| Some((q, off(q)?)))
+        .filter(|(_, (_, s))| *s > 0.0 && f.noise.arw_deg_rth > 0.0)
+        .filter(|_| !noise_named && !cmp.any(|q| is_noise(q) && !within_dwell(q)));
+    if let Some((q, (r, s))) = white_scale {
         f.noise.arw_deg_rth *= r / s;
         notes.push(format!("noise: angle random walk times {:.4} (the {q})", r / s));
     } else if noise_named || cmp.any(is_noise) {
