@@ -81,14 +81,6 @@ pub fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let distinct = order.distinct_positions(a.positions);
-    if distinct < 3 {
-        eprintln!(
-            "error: invalid value '{}' for '--order': it visits {distinct} different position(s); Eq. 7's C, A and B need three",
-            a.order
-        );
-        return ExitCode::from(2);
-    }
     let mut twin = TwinConfig {
         seed: a.seed,
         ..TwinConfig::default()

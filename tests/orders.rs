@@ -116,4 +116,13 @@ fn an_order_that_cannot_visit_the_positions_stops_the_run_before_it_moves() {
     assert_eq!(report.result.unwrap_err().fault, Fault::Order(OrderError::OddPositions));
     assert_eq!(report.positions, 0);
     assert!(world.t_s() < 0.1, "{}", world.t_s());
+    // Two positions, however often: no fit of C, A and B at the end, so no run.
+    let cfg = RunConfig {
+        positions: 8,
+        order: Order::parse("0,4,0,4,0,4").unwrap(),
+        ..RunConfig::default()
+    };
+    let (report, world) = simulate(&TwinConfig::default(), &cfg, &mut Recorder::default());
+    assert_eq!(report.result.unwrap_err().fault, Fault::Order(OrderError::FewPositions));
+    assert!(world.t_s() < 0.1, "{}", world.t_s());
 }

@@ -53,6 +53,9 @@ pub enum OrderError {
     Empty,
     /// Opposite pairs need an even number of positions.
     OddPositions,
+    /// A listed order that visits fewer than three different positions: Eq. 7's `C`, `A` and
+    /// `B` need three.
+    FewPositions,
 }
 
 impl OrderError {
@@ -88,6 +91,7 @@ impl OrderError {
             }
             OrderError::Empty => w.write_str("the listed order is empty"),
             OrderError::OddPositions => w.write_str("opposite pairs need an even number of positions"),
+            OrderError::FewPositions => w.write_str("fewer than 3 positions listed"),
         }
     }
 }
@@ -96,6 +100,20 @@ impl core::fmt::Display for OrderError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         self.write_message(f)
     }
+}
+
+/// Whether a list visits fewer than three different positions.
+fn fewer_than_three(list: &[u16]) -> bool {
+    let mut seen = [u16::MAX; 2];
+    for &p in list {
+        if !seen.contains(&p) {
+            match seen.iter().position(|&s| s == u16::MAX) {
+                Some(free) => seen[free] = p,
+                None => return false,
+            }
+        }
+    }
+    true
 }
 
 /// A position number as `u16`'s `FromStr` reads it (`[+]digits`), without that code on the MCU.
@@ -191,6 +209,7 @@ impl Order {
                     position: l.idx[at],
                     n,
                 }),
+                None if fewer_than_three(l.as_slice()) => Err(OrderError::FewPositions),
                 None => Ok(()),
             },
             _ => Ok(()),
@@ -231,14 +250,6 @@ impl Order {
     /// The positions of a run over `n` positions, in visiting order.
     pub fn positions(&self, n: u16) -> impl Iterator<Item = u16> + '_ {
         (0..self.visits(n)).map(move |j| self.position(n, j))
-    }
-
-    /// How many different positions the run visits: Eq. 7's `C`, `A` and `B` need three.
-    pub fn distinct_positions(&self, n: u16) -> u16 {
-        let v = self.visits(n);
-        (0..v)
-            .filter(|&j| (0..j).all(|i| self.position(n, i) != self.position(n, j)))
-            .count() as u16
     }
 }
 
@@ -295,6 +306,17 @@ mod tests {
         assert_eq!(seq(&Order::AlternatingPairs, 8), [0, 4, 5, 1, 2, 6, 7, 3]);
         assert_eq!(seq(&Order::Interleaved, 5), [0, 2, 4, 1, 3]);
         assert_eq!(Order::OppositePairs.check(7), Err(OrderError::OddPositions));
+    }
+
+    #[test]
+    fn a_list_needs_three_different_positions() {
+        let list = |s: &str| Order::parse(s).unwrap().check(8);
+        for few in ["0", "0,4,4,0", "3,3,3,3,5"] {
+            assert_eq!(list(few), Err(OrderError::FewPositions), "{few}");
+        }
+        for enough in ["0,4,1", "0,0,0,4,4,2", "7,6,5,4,3,2,1,0"] {
+            assert_eq!(list(enough), Ok(()), "{enough}");
+        }
     }
 
     #[test]
@@ -373,6 +395,7 @@ mod tests {
             "entry 3 of the list, position 400, is not below n = 72"
         );
         assert_eq!(says(OrderError::Empty), "the listed order is empty");
+        assert_eq!(says(OrderError::FewPositions), "fewer than 3 positions listed");
         assert_eq!(
             says(OrderError::OddPositions),
             "opposite pairs need an even number of positions"

@@ -148,16 +148,9 @@ struct UnderNoise {
 
 /// The instrument file the flags describe.
 fn from_flags(a: &SimArgs) -> Result<InstrumentFile, Fail> {
-    let order = Order::parse(&a.order)
-        .and_then(|o| o.check(a.n).map(|()| o))
+    Order::parse(&a.order)
+        .and_then(|o| o.check(a.n))
         .map_err(|e| Fail(format!("--order: {e}"), 2))?;
-    let distinct = order.distinct_positions(a.n);
-    if distinct < 3 {
-        return Err(Fail(
-            format!("--order: it visits {distinct} different position(s); Eq. 7's C, A and B need three"),
-            2,
-        ));
-    }
     let mut f = InstrumentFile {
         site: Site {
             latitude_deg: a.lat,

@@ -130,19 +130,8 @@ impl InstrumentFile {
                 format!("[noise]: {e}"),
             );
         }
-        match self.order().and_then(|o| o.check(self.run.positions).map(|()| o)) {
-            Err(e) => return err(line_of(text, "order"), format!("[run] order `{}`: {e}", self.run.order)),
-            Ok(o) if o.distinct_positions(self.run.positions) < 3 => {
-                return err(
-                    line_of(text, "order"),
-                    format!(
-                        "[run] order `{}` visits {} different position(s); Eq. 7's C, A and B need three",
-                        self.run.order,
-                        o.distinct_positions(self.run.positions)
-                    ),
-                );
-            }
-            Ok(_) => {}
+        if let Err(e) = self.order().and_then(|o| o.check(self.run.positions).map(|()| o)) {
+            return err(line_of(text, "order"), format!("[run] order `{}`: {e}", self.run.order));
         }
         if self.encoder.error.len() > ENCODER_TERMS {
             return err(
