@@ -1,7 +1,8 @@
-//! Forward selection: each step tests every effect against the current model and names the
-//! most significant one when its p-value is below `alpha / m`, `m` the tests of that step
-//! (Bonferroni over the catalogue; a scan corrects inside its own test). So a recording that
-//! has none of the effects is named for one with probability at most `alpha`.
+//! Forward selection: each step tests every effect against the current model; an effect is
+//! significant when its p-value is below `alpha / m`, `m` the tests of that step (Bonferroni
+//! over the catalogue; a scan corrects inside its own test), and of the significant ones the
+//! one whose model has the best BIC is named. So a recording that has none of the effects is
+//! named for one with probability at most `alpha`.
 
 use super::averaging::Variant;
 use super::data::Data;
@@ -106,7 +107,8 @@ impl<'a> Selector<'a> {
         })
     }
 
-    /// The significant proposals of one step, most significant first.
+    /// The significant proposals of one step, the one to name first (best BIC), then the rest
+    /// by p-value.
     fn step(&self, model: &Model, fit: &Ls, named: &[Kind]) -> Vec<Proposal> {
         let main = Frame {
             whitener: self.whitener,
