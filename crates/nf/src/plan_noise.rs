@@ -286,14 +286,19 @@ mod tests {
         }
     }
 
-    #[test]
-    fn flicker_sets_a_floor_that_balanced_orders_lower() {
-        // The paper's gyro with the bias instability that makes Table 1 scatter 33".
+    /// The paper's gyro with the bias instability that makes Table 1 scatter 33".
+    fn paper_flicker() -> (NoiseModel, Budget) {
         let (white, b) = paper();
         let m = NoiseModel {
             bias_instability_dph: 0.004,
             ..white
         };
+        (m, b)
+    }
+
+    #[test]
+    fn flicker_sets_a_floor_that_balanced_orders_lower() {
+        let (m, b) = paper_flicker();
         let tm = fast();
         let half = tm.move_s(16_000) + tm.settle_s;
         assert!((0.75..0.85).contains(&half), "{half}");
@@ -314,11 +319,7 @@ mod tests {
 
     #[test]
     fn the_search_finds_runs_between_its_grid_points() {
-        let (white, b) = paper();
-        let m = NoiseModel {
-            bias_instability_dph: 0.004,
-            ..white
-        };
+        let (m, b) = paper_flicker();
         let tm = fast();
         let pairs = [Order::OppositePairs];
         let found = search(&m, &b, &tm, &pairs, &Space::default(), 18.0, 5.0)
