@@ -301,8 +301,8 @@ fn judge(e: &Estimate) -> Option<Judged> {
     })
 }
 
-/// Azimuth and amplitude of one fit's `C, A, B` and their covariance.
-fn azimuth(coef: &[f64], cov: &[Vec<f64>]) -> Verdict {
+/// Azimuth and amplitude of one fit's `C, A, B` (first of its terms) and their covariance.
+pub(crate) fn azimuth(coef: &[f64], cov: &[Vec<f64>]) -> Verdict {
     let (a, b) = (coef[1], coef[2]);
     let r2 = a * a + b * b;
     let (vaa, vbb, vab) = (cov[1][1], cov[2][2], cov[1][2]);

@@ -42,7 +42,7 @@ pub use select::Finding;
 use crate::noise_fit::NoiseChoice;
 use crate::recording::Recording;
 use data::Data;
-use model::{Model, amplitude, summary};
+use model::{Model, summary};
 use nf_model::noise::NoiseModel;
 use select::Selector;
 use shaft_tilt::ShaftTilt;
@@ -189,9 +189,21 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
     let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
-    let (amp, amp_sigma) = amplitude(&sel.fit);
+    let s2 = sel.fit.s2();
+    let cov: Vec<Vec<f64>> = sel
+        .fit
+        .cov_unit
+        .iter()
+        .map(|r| r.iter().map(|c| c * s2).collect())
+        .collect();
+    let amp = crate::noise_fit::azimuth(&sel.fit.coef, &cov);
     let predicted = nf_model::uncertainty::amplitude_dph(rec.latitude_deg);
-    let unresolved = crate::noise_fit::unresolved(final_.sigma_arcsec / 3600.0, amp, amp_sigma, predicted);
+    let unresolved = crate::noise_fit::unresolved(
+        final_.sigma_arcsec / 3600.0,
+        amp.amplitude_dph,
+        amp.sigma_amplitude_dph,
+        predicted,
+    );
     let mut findings = noise::findings(&noise, &tails, &rate_resid, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either, nor

@@ -113,15 +113,6 @@ impl Model {
     }
 }
 
-/// The first harmonic's amplitude of a fit whose columns begin with `1, cos, sin`, and its
-/// sigma with the noise level rescaled by the residuals, deg/h.
-pub fn amplitude(ls: &Ls) -> (f64, f64) {
-    let (a, b) = (ls.coef[1], ls.coef[2]);
-    let r2 = a * a + b * b;
-    let v = ls.s2() * (a * a * ls.cov_unit[1][1] + b * b * ls.cov_unit[2][2] + 2.0 * a * b * ls.cov_unit[1][2]) / r2;
-    (r2.sqrt(), v.max(0.0).sqrt())
-}
-
 /// The azimuth of a fit whose columns begin with `1, cos, sin`, its whitened RSS, and its
 /// sigma with the noise level rescaled by the residuals.
 pub fn summary(ls: &Ls) -> Summary {
