@@ -374,30 +374,38 @@ fn an_earth_rate_not_resolved_gives_no_azimuth_in_fit_or_diagnose() {
     assert!((j["final"]["azimuth_deg"].as_f64().unwrap() - 70.0).abs() < 0.01, "{j}");
 }
 
+/// A recording at latitude 43.8 deg, psi 65.5 deg, over `angles`, on a shaft tilted `tilt` deg
+/// towards 140 deg, with both inclinometer columns or `tilt_y_deg` alone; `noise(k)` added.
+fn tilted(name: &str, angles: &[f64], tilt: f64, y_only: bool, noise: impl Fn(usize) -> f64) -> String {
+    let h = 15.041 * 43.8f64.to_radians().cos();
+    let columns = if y_only { "tilt_y_deg" } else { "tilt_x_deg,tilt_y_deg" };
+    let mut text = format!(
+        "# format = northfinder-recording/1\n# latitude_deg = 43.8\n# dwell_s = 2\nindex,t_s,encoder_deg,rate_dph,{columns}\n"
+    );
+    for (k, g) in angles.iter().enumerate() {
+        let (x, y) = (
+            -tilt * (g - 140.0f64).to_radians().cos(),
+            tilt * (g - 140.0f64).to_radians().sin(),
+        );
+        let cells = if y_only { format!("{y}") } else { format!("{x},{y}") };
+        let rate = 3.0 + h * (g + 65.5f64).to_radians().cos() + noise(k);
+        text += &format!("{k},{},{g},{rate},{cells}\n", 2.5 * k as f64 + 1.0);
+    }
+    let file = tmp(name);
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
 #[test]
 fn a_run_that_starts_on_a_repeated_opposite_pair_fits_with_its_tilt() {
     // Visits 10, 190, 10, 190, then 10 to 360 by 10, on a shaft tilted 0.002 deg: the fit
     // once lost its precision on the first four rows and the exact tilt correction then never
     // converged (exit 1, no azimuth).
-    let h = 15.041 * 43.8f64.to_radians().cos();
     let mut angles = vec![10.0, 190.0, 10.0, 190.0];
     angles.extend((1..=36).map(|k| 10.0 * k as f64 % 360.0));
-    let mut text = String::from("# format = northfinder-recording/1\n# latitude_deg = 43.8\n# dwell_s = 2\n");
-    text += "index,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg\n";
-    for (k, g) in angles.iter().enumerate() {
-        let (x, y) = (
-            -0.002 * (g - 140.0f64).to_radians().cos(),
-            0.002 * (g - 140.0f64).to_radians().sin(),
-        );
-        let noise = 0.004 * ((k as f64 * 0.618_034).fract() - 0.5);
-        text += &format!(
-            "{k},{},{g},{},{x},{y}\n",
-            2.5 * k as f64 + 1.0,
-            3.0 + h * (g + 65.5f64).to_radians().cos() + noise
-        );
-    }
-    let file = tmp("repeated_pair.csv");
-    std::fs::write(&file, text).unwrap();
+    let file = tilted("repeated_pair.csv", &angles, 0.002, false, |k| {
+        0.004 * ((k as f64 * 0.618_034).fract() - 0.5)
+    });
     let (code, out, err) = nf(&["fit", &file, "--json"]);
     assert_eq!(code, 0, "{err}");
     let j: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -408,42 +416,17 @@ fn a_run_that_starts_on_a_repeated_opposite_pair_fits_with_its_tilt() {
 
 #[test]
 fn first_order_tilt_is_warned_against_at_degrees_and_needs_tilt_x() {
-    let h = 15.041 * 43.8f64.to_radians().cos();
-    let write = |name: &str, tilt: f64, columns: &str| {
-        let mut text = format!(
-            "# format = northfinder-recording/1\n# latitude_deg = 43.8\nindex,t_s,encoder_deg,rate_dph,{columns}\n"
-        );
-        for k in 0..36 {
-            let g = 10.0 * k as f64;
-            let (x, y) = (
-                -tilt * (g - 140.0f64).to_radians().cos(),
-                tilt * (g - 140.0f64).to_radians().sin(),
-            );
-            let cells = if columns.contains(',') {
-                format!("{x},{y}")
-            } else {
-                format!("{y}")
-            };
-            text += &format!(
-                "{k},{},{g},{},{cells}\n",
-                2 * k + 1,
-                3.0 + h * (g + 65.5f64).to_radians().cos()
-            );
-        }
-        let file = tmp(name);
-        std::fs::write(&file, text).unwrap();
-        file
-    };
-    let steep = write("steep.csv", 3.0, "tilt_x_deg,tilt_y_deg");
+    let turn: Vec<f64> = (0..36).map(|k| 10.0 * k as f64).collect();
+    let steep = tilted("steep.csv", &turn, 3.0, false, |_| 0.0);
     let (code, out, err) = nf(&["fit", &steep, "--tilt", "first-order"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("WARNING: the shaft is tilted 3.00 deg"), "{out}");
     let (_, out, _) = nf(&["fit", &steep]);
     assert!(!out.contains("WARNING"), "{out}");
-    let gentle = write("gentle.csv", 0.3, "tilt_x_deg,tilt_y_deg");
+    let gentle = tilted("gentle.csv", &turn, 0.3, false, |_| 0.0);
     let (_, out, _) = nf(&["fit", &gentle, "--tilt", "first-order"]);
     assert!(out.contains("first order") && !out.contains("WARNING"), "{out}");
-    let y_only = write("y_only.csv", 0.3, "tilt_y_deg");
+    let y_only = tilted("y_only.csv", &turn, 0.3, true, |_| 0.0);
     let (code, _, err) = nf(&["fit", &y_only, "--tilt", "first-order"]);
     assert_ne!(code, 0);
     assert!(
