@@ -6,7 +6,6 @@
 //! noise on the probe's link) is skipped with a warning; a `rec` line that had some is dropped,
 //! since its values cannot be trusted, and shows as a missing index.
 
-use crate::recording::Row;
 use crate::textfile::Error;
 use std::borrow::Cow;
 
@@ -204,38 +203,6 @@ fn rec_message(l: &str) -> Option<String> {
     }
 }
 
-/// A run of indices missing from a log: positions whose `rec` line was lost.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Gap {
-    pub first: u32,
-    pub last: u32,
-    /// Log lines of the positions on either side (none before index 0).
-    pub after_line: Option<usize>,
-    pub before_line: usize,
-}
-
-/// The indices missing below the highest one seen. Missing ones after it are not seen: a log
-/// cut short, or a run that ended early, just ends.
-pub fn gaps(rows: &[Row]) -> Vec<Gap> {
-    let mut by_index: Vec<&Row> = rows.iter().collect();
-    by_index.sort_by_key(|r| r.index);
-    let mut out = Vec::new();
-    let mut prev: Option<&Row> = None;
-    for r in by_index {
-        let first = prev.map_or(0, |p| p.index + 1);
-        if r.index > first {
-            out.push(Gap {
-                first,
-                last: r.index - 1,
-                after_line: prev.map(|p| p.line),
-                before_line: r.line,
-            });
-        }
-        prev = Some(r);
-    }
-    out
-}
-
 /// Byte offset of the `rec ` tag: at the start of the message, after level and time stamp.
 fn find_tag(l: &str) -> Option<usize> {
     if l.starts_with("rec ") {
@@ -339,34 +306,5 @@ WARN  inclinometer: bad line dropped
         assert!(l.warnings[1].what.contains("dropped"), "{:?}", l.warnings);
         assert_eq!(l.on_log_lines(), "# format = northfinder-recording/1\n\n\nindex,t_s\n");
         assert_eq!(l.recording(), "# format = northfinder-recording/1\nindex,t_s\n");
-    }
-
-    #[test]
-    fn gaps_name_the_missing_indices_and_the_lines_around() {
-        let row = |index, line| Row {
-            line,
-            index,
-            t_s: 0.0,
-            encoder_deg: 0.0,
-            rate_dph: 0.0,
-            rate_sd_dph: None,
-            samples: None,
-            temp_c: None,
-            tilt_x_deg: None,
-            tilt_y_deg: None,
-            quarters_dph: None,
-        };
-        let rows = [row(1, 10), row(2, 12), row(5, 20), row(6, 22)];
-        let g = gaps(&rows);
-        assert_eq!(g.len(), 2);
-        assert_eq!(
-            (g[0].first, g[0].last, g[0].after_line, g[0].before_line),
-            (0, 0, None, 10)
-        );
-        assert_eq!(
-            (g[1].first, g[1].last, g[1].after_line, g[1].before_line),
-            (3, 4, Some(12), 20)
-        );
-        assert!(gaps(&rows[..2][1..]).len() == 1 && gaps(&[row(0, 3), row(1, 4)]).is_empty());
     }
 }

@@ -342,26 +342,54 @@ fn in_visiting_order(rows: &mut [Row], warnings: &mut Vec<Error>) -> Result<(), 
     }
 }
 
-/// Visits the indices skip (from 0, in index order): positions the firmware measured and the
-/// file lost, or rows cut out; the fit goes on with the rest.
-fn missing_visits(rows: &[Row], warnings: &mut Vec<Error>) {
-    let mut expected = 0u32;
-    for r in rows {
-        if r.index > expected {
-            let what = if r.index - expected == 1 {
-                format!("index {expected}")
-            } else {
-                format!("indices {expected} to {}", r.index - 1)
-            };
-            warnings.push(Error {
-                line: r.line,
-                what: format!(
-                    "{what} missing before this line's index {}: visits lost from the file",
-                    r.index
-                ),
+/// A run of indices missing below the highest one: positions measured and lost from the file
+/// (a `rec` line lost from a log). Missing ones after it are not seen: a file cut short, or a
+/// run that ended early, just ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct IndexGap {
+    pub first: u32,
+    pub last: u32,
+    /// Lines of the positions on either side (none before index 0).
+    pub after_line: Option<usize>,
+    pub before_line: usize,
+}
+
+/// The runs of indices missing below the highest one, in any order of `rows`.
+pub fn index_gaps(rows: &[Row]) -> Vec<IndexGap> {
+    let mut by_index: Vec<&Row> = rows.iter().collect();
+    by_index.sort_by_key(|r| r.index);
+    let mut out = Vec::new();
+    let mut prev: Option<&Row> = None;
+    for r in by_index {
+        let first = prev.map_or(0, |p| p.index + 1);
+        if r.index > first {
+            out.push(IndexGap {
+                first,
+                last: r.index - 1,
+                after_line: prev.map(|p| p.line),
+                before_line: r.line,
             });
         }
-        expected = r.index.saturating_add(1);
+        prev = Some(r);
+    }
+    out
+}
+
+/// Visits the indices skip: the fit goes on with the rest.
+fn missing_visits(rows: &[Row], warnings: &mut Vec<Error>) {
+    for g in index_gaps(rows) {
+        let what = if g.first == g.last {
+            format!("index {}", g.first)
+        } else {
+            format!("indices {} to {}", g.first, g.last)
+        };
+        warnings.push(Error {
+            line: g.before_line,
+            what: format!(
+                "{what} missing before this line's index {}: visits lost from the file",
+                g.last + 1
+            ),
+        });
     }
 }
 

@@ -1,6 +1,6 @@
 //! The reader on recordings as other programs write them, and on every kind of bad line.
 
-use nf::recording::Recording;
+use nf::recording::{Recording, Row, index_gaps};
 
 const GOOD: &str = "\
 # format = northfinder-recording/1
@@ -226,6 +226,35 @@ fn quarters_that_do_not_average_to_their_rate_are_dropped_with_a_warning() {
     let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(said.len(), 1, "{said:?}");
     assert!(said[0].starts_with("line 5: q1_dph..q4_dph average"), "{said:?}");
+}
+
+#[test]
+fn gaps_name_the_missing_indices_and_the_lines_around() {
+    let row = |index, line| Row {
+        line,
+        index,
+        t_s: 0.0,
+        encoder_deg: 0.0,
+        rate_dph: 0.0,
+        rate_sd_dph: None,
+        samples: None,
+        temp_c: None,
+        tilt_x_deg: None,
+        tilt_y_deg: None,
+        quarters_dph: None,
+    };
+    let rows = [row(1, 10), row(2, 12), row(5, 20), row(6, 22)];
+    let g = index_gaps(&rows);
+    assert_eq!(g.len(), 2);
+    assert_eq!(
+        (g[0].first, g[0].last, g[0].after_line, g[0].before_line),
+        (0, 0, None, 10)
+    );
+    assert_eq!(
+        (g[1].first, g[1].last, g[1].after_line, g[1].before_line),
+        (3, 4, Some(12), 20)
+    );
+    assert!(index_gaps(&rows[..2][1..]).len() == 1 && index_gaps(&[row(0, 3), row(1, 4)]).is_empty());
 }
 
 #[test]

@@ -1,8 +1,8 @@
 //! `nf log`: a firmware defmt log back into a recording.
 
 use super::{Fail, note, write_out};
-use crate::logparse::{self, Gap};
-use crate::recording::Recording;
+use crate::logparse;
+use crate::recording::{IndexGap, Recording, index_gaps};
 use std::io::Read;
 
 #[derive(clap::Args)]
@@ -44,7 +44,7 @@ fn list(runs: &[logparse::Log]) -> String {
         .join("\n")
 }
 
-fn describe(g: &Gap) -> String {
+fn describe(g: &IndexGap) -> String {
     let which = if g.first == g.last {
         format!("index {}", g.first)
     } else {
@@ -106,21 +106,18 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
     for w in &rec.warnings {
         note!("nf: warning: {}", w.at(&a.log));
     }
-    let gaps = logparse::gaps(&rec.rows);
-    if !gaps.is_empty() {
+    // The reader's warnings above name each gap; without --allow-gaps they are an error.
+    let gaps = index_gaps(&rec.rows);
+    if !gaps.is_empty() && !a.allow_gaps {
         let list: Vec<String> = gaps.iter().map(describe).collect();
-        let msg = format!(
-            "{}: positions missing from the log (a lost 'rec' line?): {}",
-            a.log,
-            list.join(", ")
-        );
-        if !a.allow_gaps {
-            return Err(Fail(
-                format!("{msg}; --allow-gaps writes the recording without them"),
-                2,
-            ));
-        }
-        note!("nf: warning: {msg}");
+        return Err(Fail(
+            format!(
+                "{}: positions missing from the log (a lost 'rec' line?): {}; --allow-gaps writes the recording without them",
+                a.log,
+                list.join(", ")
+            ),
+            2,
+        ));
     }
     write_out(&a.out, &log.recording())?;
     note!("{} positions recovered from {}", rec.rows.len(), a.log);
