@@ -1,6 +1,7 @@
 //! The static-log reader on any text: no panic; times strictly increase; the segments cover
 //! the samples in order, split exactly where a step exceeds the median step by `GAP_FACTOR`
-//! times it and by `JITTER_SIGMAS` robust sigmas of the steps; the step is the mean within the
+//! times it, by `JITTER_SIGMAS` robust sigmas of the steps and, for times written coarser than
+//! the step, by `GAP_FACTOR` counts of their resolution; the step is the mean within the
 //! segments; and printing the log back in the format and reading it again gives the same log.
 #![no_main]
 
@@ -41,7 +42,22 @@ fuzz_target!(|data: &[u8]| {
     };
     let m = median(steps.clone());
     let jitter = 1.4826 * median(steps.iter().map(|s| (s - m).abs()).collect());
-    let threshold = m + ((GAP_FACTOR - 1.0) * m).max(JITTER_SIGMAS * jitter);
+    // Times written coarser than the step step by whole counts: the smallest step above the
+    // median, when it is one count above it (at most the median) and at least three steps and a
+    // twentieth of them lie within half a count of it, allows GAP_FACTOR counts more.
+    let above = steps
+        .iter()
+        .copied()
+        .filter(|&s| s > m * (1.0 + 1e-6))
+        .fold(f64::INFINITY, f64::min);
+    let count = above - m;
+    let near = steps.iter().filter(|&&s| (s - above).abs() < count / 2.0).count();
+    let coarse = above.is_finite() && count <= m * (1.0 + 1e-6) && near >= 3 && near * 20 >= steps.len();
+    let resolution = if coarse { count } else { 0.0 };
+    let threshold = m
+        + ((GAP_FACTOR - 1.0) * m)
+            .max(JITTER_SIGMAS * jitter)
+            .max(GAP_FACTOR * resolution);
     // The step: the mean step within the segments of two samples or more.
     let (span, count) = sp.segments.iter().filter(|r| r.len() > 1).fold((0.0, 0), |(s, c), r| {
         (s + log.t_s[r.end - 1] - log.t_s[r.start], c + r.len() - 1)
