@@ -21,6 +21,7 @@ pub mod paper;
 pub mod plan;
 pub mod plan_noise;
 pub mod plot;
+mod quarter_contrasts;
 pub mod range;
 pub mod recording;
 pub mod replicate;

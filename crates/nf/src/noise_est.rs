@@ -12,9 +12,9 @@
 //! trusting one estimate.
 
 use crate::gls::{self, Cov, WindowSet};
+use crate::quarter_contrasts::{Part, QuarterContrasts};
 use crate::stats::chi2_sf;
 use nf_model::noise::NoiseModel;
-use std::f64::consts::FRAC_1_SQRT_2;
 
 /// What the estimate sees of a recording.
 #[derive(Debug, Clone)]
@@ -137,23 +137,6 @@ impl Estimate {
     }
 }
 
-/// Helmert contrasts of four quarters: orthonormal, orthogonal to their mean.
-const HELMERT: [[f64; 4]; 3] = [
-    [FRAC_1_SQRT_2, -FRAC_1_SQRT_2, 0.0, 0.0],
-    [
-        0.408_248_290_463_863,
-        0.408_248_290_463_863,
-        -0.816_496_580_927_726,
-        0.0,
-    ],
-    [
-        0.288_675_134_594_812_9,
-        0.288_675_134_594_812_9,
-        0.288_675_134_594_812_9,
-        -0.866_025_403_784_438_6,
-    ],
-];
-
 /// The two families of coloured noise the estimate searches beside white noise.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Family {
@@ -219,28 +202,18 @@ struct Problem<'a> {
     data: Data<'a>,
     /// The designs estimated at once: `data.cols` first.
     designs: Vec<&'a [Vec<f64>]>,
-    /// Scatter of the quarter contrasts, summed over dwells.
-    scatter: [[f64; 3]; 3],
+    quarters: QuarterContrasts,
     /// The dwells, factored under every model looked at.
     windows: WindowSet,
 }
 
 impl<'a> Problem<'a> {
     fn new(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Problem<'a> {
-        let mut scatter = [[0.0; 3]; 3];
-        for q in data.quarters {
-            let c: Vec<f64> = HELMERT.iter().map(|h| (0..4).map(|k| h[k] * q[k]).sum()).collect();
-            for i in 0..3 {
-                for j in 0..3 {
-                    scatter[i][j] += c[i] * c[j];
-                }
-            }
-        }
         Problem {
+            quarters: QuarterContrasts::new(data.quarters, data.dwell_s),
             designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
             windows: WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]),
             data,
-            scatter,
         }
     }
 
@@ -287,68 +260,19 @@ impl<'a> Problem<'a> {
         let m = at.unit_model();
         let g = gls::fit(cols, d.y, cov)?;
         // -2 loglik = N ln W + a + q / W, with the dwell means' REML and the quarter contrasts.
-        let mut a = -2.0 * g.reml_loglik - g.chi2;
-        let mut q = g.chi2;
-        let mut count = g.dof;
-        let nq = d.quarters.len();
-        if nq > 0 {
-            let c = self.contrast_cov(&m);
-            let (inv, log_det) = inverse3(&c)?;
-            a += nq as f64 * log_det;
-            q += (0..3)
-                .flat_map(|i| (0..3).map(move |j| (i, j)))
-                .map(|(i, j)| inv[i][j] * self.scatter[j][i])
-                .sum::<f64>();
-            count += 3 * nq;
-        }
-        let n = count as f64;
-        let w = q / n;
-        (w > 0.0).then(|| Candidate {
+        let dwells = Part {
+            log_det: -2.0 * g.reml_loglik - g.chi2,
+            quad: g.chi2,
+            count: g.dof,
+        };
+        let (loglik, w) = dwells.plus(self.quarters.part(&m)?).profiled()?;
+        Some(Candidate {
             model: scaled(&m, w),
-            loglik: -0.5 * (n * w.ln() + a + n),
+            loglik,
             coef: g.coef,
             cov: g.cov.iter().map(|r| r.iter().map(|v| v * w).collect()).collect(),
         })
     }
-
-    /// Covariance of the three quarter contrasts of one dwell under `m`.
-    fn contrast_cov(&self, m: &NoiseModel) -> [[f64; 3]; 3] {
-        let tq = self.data.dwell_s / 4.0;
-        let centre = |k: usize| (k as f64 - 1.5) * tq;
-        let mut qc = [[0.0; 4]; 4];
-        for (a, row) in qc.iter_mut().enumerate() {
-            for (b, v) in row.iter_mut().enumerate() {
-                *v = m.mean_cov(centre(b) - centre(a), tq, tq, a == b);
-            }
-        }
-        let mut c = [[0.0; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = (0..4)
-                    .flat_map(|a| (0..4).map(move |b| (a, b)))
-                    .map(|(a, b)| HELMERT[i][a] * qc[a][b] * HELMERT[j][b])
-                    .sum();
-            }
-        }
-        c
-    }
-}
-
-fn inverse3(m: &[[f64; 3]; 3]) -> Option<([[f64; 3]; 3], f64)> {
-    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    if det.is_nan() || det <= 0.0 {
-        return None;
-    }
-    // Cyclic cofactors: inv[i][j] = C[j][i] / det.
-    let inv = core::array::from_fn(|i| {
-        core::array::from_fn(|j| {
-            let (r0, r1) = ((j + 1) % 3, (j + 2) % 3);
-            let (c0, c1) = ((i + 1) % 3, (i + 2) % 3);
-            (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det
-        })
-    });
-    Some((inv, det.ln()))
 }
 
 /// A family's grid: the values of its two parameters, and which of them are whole decades
