@@ -191,6 +191,11 @@ impl WindowSet {
         }
     }
 
+    /// How many windows there are.
+    pub fn count(&self) -> usize {
+        self.t_s.len()
+    }
+
     /// [`Cov::of_windows`] of these windows under `model`.
     pub fn cov(&self, model: &NoiseModel) -> Option<Cov> {
         let n = self.t_s.len();

@@ -34,6 +34,7 @@ mod stats;
 pub mod textfile;
 pub mod tilt;
 pub mod twin_check;
+mod wander_test;
 
 mod cli;
 

@@ -226,13 +226,18 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     let (c, r) = (&d.cautious_model, &d.drift_model);
     writeln!(
         out,
-        "     temperature, encoder harmonics and amplitude judged under the most coloured plausible model: {}",
+        "     encoder harmonics and the slow amplitude and 2 psi harmonic judged under the most coloured plausible model: {}",
         colour_text(c)
     )?;
     writeln!(
         out,
-        "     drift and jump judged under the model estimated with a drift: {}",
-        colour_text(r)
+        "     drift, jump and temperature judged under the model estimated with a drift: {}{}",
+        colour_text(r),
+        if d.wander_tested {
+            ", and with the noise re-estimated with and without each"
+        } else {
+            ""
+        }
     )?;
     writeln!(
         out,

@@ -6,6 +6,7 @@ use super::model::{Model, Summary};
 use super::whiten::Whitener;
 use crate::linfit::Ls;
 use crate::stats::f_sf;
+use crate::wander_test::Null;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Param {
@@ -92,6 +93,10 @@ pub struct State<'a> {
     pub main: &'a Frame<'a>,
     pub cautious: &'a Frame<'a>,
     pub drift: &'a Frame<'a>,
+    /// The model so far as the null of the test of an effect a wandering bias can mimic,
+    /// with the noise profiled under each hypothesis; `None` where the drift frame's F test
+    /// stands alone.
+    pub wander: Option<&'a Null<'a>>,
     pub summary: Summary,
     pub named: &'a [Kind],
     /// Degrees of freedom of the Student-t the whitened noise follows; infinite if Gaussian.
@@ -105,6 +110,20 @@ impl State<'_> {
 
     pub fn is_named(&self, k: Kind) -> bool {
         self.named.contains(&k)
+    }
+
+    /// `p` judged also by the wander test, where there is one: drift, jump and temperature
+    /// are significant only when the F test under the drift design's noise and the wander
+    /// test both say so (an intersection-union test: its size is at most either's). Over one
+    /// run a random walk and a drift are one wander, and each test alone takes one for the
+    /// other in a different share of runs.
+    pub fn wander_judged(&self, mut p: Proposal) -> Proposal {
+        if let (Some(null), Change::Columns(cols)) = (self.wander, &p.change)
+            && let Some(pw) = null.p_value(cols)
+        {
+            p.p = p.p.max(pw);
+        }
+        p
     }
 }
 

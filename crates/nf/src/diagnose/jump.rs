@@ -1,5 +1,6 @@
 //! `bias_jump`: a step of the bias between two positions, scanned over the time order. The
-//! scan's best p-value is corrected for the n - 4 change points it chose from.
+//! scan's best step is judged also by the wander test (a random walk is a sum of steps), and
+//! its p-value corrected for the n - 4 change points it chose from.
 
 use super::effect::{Change, Effect, Proposal, State, f_test, param};
 use super::kind::Kind;
@@ -28,9 +29,9 @@ impl Effect for BiasJump {
             .min_by(|a, b| a.0.total_cmp(&b.0));
         let Some((p, j, big)) = best else { return Vec::new() };
         let row = &d.rec.rows[j];
-        vec![Proposal {
+        let judged = s.wander_judged(Proposal {
             kind: Kind::BiasJump,
-            p: (p * (n - 4) as f64).min(1.0),
+            p,
             change: Change::Columns(vec![step(j)]),
             parameters: vec![
                 param("size_dph", big.coef, Some(big.sigma())),
@@ -44,6 +45,10 @@ impl Effect for BiasJump {
                 row.index
             ),
             scanned: 1,
+        });
+        vec![Proposal {
+            p: (judged.p * (n - 4) as f64).min(1.0),
+            ..judged
         }]
     }
 }

@@ -86,10 +86,16 @@ pub struct Point {
 pub struct Diagnosis {
     pub alpha: f64,
     pub noise_model: NoiseModel,
-    /// The most coloured plausible model, under which drift, jump and amplitude are judged.
+    /// The most coloured plausible model, under which encoder harmonics and the slow
+    /// amplitude and 2 psi harmonic are judged.
     pub cautious_model: NoiseModel,
-    /// The same with a drift in the design, under which drift and jump are judged.
+    /// The model estimated with a drift in the design, under which drift, jump and
+    /// temperature are judged.
     pub drift_model: NoiseModel,
+    /// Whether drift, jump and temperature were also asked of the wander test (the noise
+    /// re-estimated with and without each): where the noise is estimated, up to 2000
+    /// positions.
+    pub wander_tested: bool,
     pub noise_source: String,
     /// Whether the noise model was estimated from the recording (not given).
     pub noise_estimated: bool,
@@ -181,6 +187,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         whitener: w,
         cautious: &noise.cautious,
         drift: &noise.drift,
+        wander: noise.wander.as_ref(),
         effects: &effects,
         tail_dof: tails.dof,
         alpha: opt.alpha * (1.0 - UNEXPLAINED_SHARE),
@@ -251,6 +258,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_model: noise.model,
         cautious_model: noise.cautious_model,
         drift_model: noise.drift_model,
+        wander_tested: noise.wander.is_some(),
         noise_source: noise.source,
         noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: summary(&base),

@@ -19,11 +19,16 @@ use crate::gls::WindowSet;
 use crate::linfit;
 use crate::noise_est::{self, Candidate, Term, Thinned};
 use crate::noise_fit::{NoiseChoice, dwell_of};
+use crate::wander_test::WanderTest;
 use nf_model::noise::NoiseModel;
 
 /// Log-likelihood below the best that a noise model may lie and still count as plausible:
 /// half the 68 % point of a chi-square of 1 dof (one sigma).
 const PLAUSIBLE: f64 = 0.5;
+
+/// The flicker-and-walk models of each noise estimate, the most likely first, that start the
+/// wander test's searches (each search then refines its best).
+const WANDER_STARTS: usize = 10;
 
 /// A property of the noise the likelihood needs.
 pub struct NoiseTerm {
@@ -41,6 +46,9 @@ pub struct Noise {
     /// The most likely model with a drift in the design: for the tests of drift and jump.
     pub drift_model: NoiseModel,
     pub drift: Whitener,
+    /// The test of drift, jump and temperature with the noise estimated under each
+    /// hypothesis; `None` when the noise was given or the run is thinned for its estimate.
+    pub wander: Option<WanderTest>,
     /// The noise models the recording allows, with their likelihood weights (summing to 1),
     /// for the final sigma: factored one at a time, as a long recording's factor is large.
     pub plausible: Vec<(f64, NoiseModel)>,
@@ -118,6 +126,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             cautious: given.clone(),
             drift_model: *m,
             drift: given.clone(),
+            wander: None,
             plausible: vec![(1.0, *m)],
             source: format!("given: {label}"),
             terms: Vec::new(),
@@ -166,14 +175,34 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     // cautious: beyond a curve, a modest random walk is hard to exclude. Flicker and walk
     // only: a Gauss-Markov bias claims the wander bounded, and a drift judged under it is
     // named wherever the run is longer than its time.
-    let drift_model = with_drift.map_or(cautious_model, |e| {
+    let drift_model = with_drift.as_ref().map_or(cautious_model, |e| {
         std::iter::once(&e.best)
             .chain(&e.grid)
             .filter(|c| Term::GaussMarkov.absent(&c.model))
             .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
             .map_or(e.best.model, |c| c.model)
     });
+    let wander = if every > 1 {
+        None
+    } else {
+        let near = |e: &noise_est::Estimate| {
+            let mut wander: Vec<&Candidate> = std::iter::once(&e.best)
+                .chain(&e.grid)
+                .filter(|c| Term::GaussMarkov.absent(&c.model))
+                .collect();
+            wander.sort_by(|a, b| b.loglik.total_cmp(&a.loglik));
+            wander
+                .into_iter()
+                .take(WANDER_STARTS)
+                .map(|c| c.model)
+                .collect::<Vec<_>>()
+        };
+        let mut starts = near(&e);
+        starts.extend(with_drift.as_ref().map(near).unwrap_or_default());
+        WanderTest::new(&d.t, dwell_s, &quarters, &starts)
+    };
     Ok(Noise {
+        wander,
         plausible: plausible(&e),
         drift_model,
         drift: whitener_of(&drift_model)?,

@@ -11,6 +11,7 @@ use super::kind::Kind;
 use super::model::{Model, Summary, summary};
 use super::whiten::Whitener;
 use crate::linfit::Ls;
+use crate::wander_test::WanderTest;
 
 /// Steps before the selection stops regardless.
 const MAX_STEPS: usize = 12;
@@ -46,6 +47,8 @@ pub struct Selector<'a> {
     pub cautious: &'a Whitener,
     /// The most coloured noise with a drift in its design, for the tests of drift and jump.
     pub drift: &'a Whitener,
+    /// Drift, jump and temperature also under the noise profiled with and without them.
+    pub wander: Option<&'a WanderTest>,
     pub effects: &'a [Box<dyn Effect>],
     pub tail_dof: f64,
     pub alpha: f64,
@@ -131,11 +134,15 @@ impl<'a> Selector<'a> {
             }
         };
         let (cautious, drift) = (under(self.cautious), under(self.drift));
+        let null = self
+            .wander
+            .and_then(|w| w.null(&model.cols.iter().map(|c| c.raw.clone()).collect::<Vec<_>>(), &model.y));
         let state = State {
             data: self.data,
             main: &main,
             cautious: &cautious,
             drift: &drift,
+            wander: null.as_ref(),
             summary: summary(fit),
             named,
             tail_dof: self.tail_dof,

@@ -31,6 +31,7 @@ impl Effect for ThermalDrift {
                 "follows the recorded temperature".into(),
             )
             .into_iter()
+            .map(|p| s.wander_judged(p))
             .collect()
     }
 }

@@ -107,15 +107,18 @@ struct NoiseModelJson<'a> {
     arw_deg_rth: f64,
     /// Bias instability B, deg/h.
     bias_instability_dph: f64,
-    /// The most coloured plausible model: temperature, encoder harmonics and amplitude are
-    /// judged under it.
+    /// The most coloured plausible model: encoder harmonics and the slow amplitude and 2 psi
+    /// harmonic are judged under it.
     cautious: ColouredJson,
     /// Rate random walk K, deg/h/sqrt(h).
     rrw_dph_rth: f64,
     /// Where the model came from.
     source: &'a str,
-    /// The model estimated with a drift: drift and jump are judged under it.
+    /// The model estimated with a drift: drift, jump and temperature are judged under it.
     with_drift: ColouredJson,
+    /// Whether drift, jump and temperature were also judged with the noise re-estimated with
+    /// and without each (a likelihood ratio; named only when both tests find them).
+    wander_tested: bool,
 }
 
 /// The coloured terms of a noise model.
@@ -185,6 +188,7 @@ pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -
             rrw_dph_rth: m.rrw_dph_rth,
             source: &d.noise_source,
             with_drift: (&d.drift_model).into(),
+            wander_tested: d.wander_tested,
         },
         not_resolved_because: d.unresolved.as_deref(),
         notes: &d.notes,
