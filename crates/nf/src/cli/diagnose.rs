@@ -231,14 +231,15 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     )?;
     writeln!(
         out,
-        "     drift, jump and temperature judged under the model estimated with a drift: {}{}",
-        colour_text(r),
-        if d.wander_tested {
-            ", and with the noise re-estimated with and without each"
-        } else {
-            ""
-        }
+        "     drift, jump and temperature judged under the model estimated with a drift: {}",
+        colour_text(r)
     )?;
+    if d.wander_tested {
+        writeln!(
+            out,
+            "     drift, jump, temperature, encoder harmonics and the 2 psi harmonic also with the noise re-estimated with and without each (named only when both tests agree)"
+        )?;
+    }
     writeln!(
         out,
         "baseline (Eq. 7, level ideal instrument): psi {} deg +- {:.2}\"",

@@ -112,11 +112,12 @@ impl State<'_> {
         self.named.contains(&k)
     }
 
-    /// `p` judged also by the wander test, where there is one: drift, jump and temperature
-    /// are significant only when the F test under the drift design's noise and the wander
-    /// test both say so (an intersection-union test: its size is at most either's). Over one
-    /// run a random walk and a drift are one wander, and each test alone takes one for the
-    /// other in a different share of runs.
+    /// `p` judged also by the wander test, where there is one: an effect whose shape a
+    /// wandering bias can take (drift, jump, temperature, encoder harmonics, the 2 psi
+    /// harmonic) is significant only when its F test and the wander test both say so (an
+    /// intersection-union test: its size is at most either's). Over one run a random walk
+    /// and a drift are one wander, and each test alone takes one for the other in a
+    /// different share of runs.
     pub fn wander_judged(&self, mut p: Proposal) -> Proposal {
         if let (Some(null), Change::Columns(cols)) = (self.wander, &p.change)
             && let Some(pw) = null.p_value(cols)

@@ -41,23 +41,25 @@ impl Effect for EncoderError {
                     2 => "the third harmonic of the residuals; it biases the azimuth".to_string(),
                     _ => format!("harmonics {} and {} of the residuals", k - 1, k + 1),
                 };
-                s.cautious.nested(
-                    Kind::EncoderError,
-                    cols,
-                    move |l, i| {
-                        let (a, b) = (l.coef[i], l.coef[i + 1]);
-                        vec![
-                            param("harmonic", k as f64, None),
-                            param(
-                                "amplitude_arcsec",
-                                a.hypot(b).to_degrees() * 3600.0,
-                                Some(l.sigma(i).to_degrees() * 3600.0),
-                            ),
-                            param("phase_deg", atan2_deg(a, b), None),
-                        ]
-                    },
-                    shows,
-                )
+                s.cautious
+                    .nested(
+                        Kind::EncoderError,
+                        cols,
+                        move |l, i| {
+                            let (a, b) = (l.coef[i], l.coef[i + 1]);
+                            vec![
+                                param("harmonic", k as f64, None),
+                                param(
+                                    "amplitude_arcsec",
+                                    a.hypot(b).to_degrees() * 3600.0,
+                                    Some(l.sigma(i).to_degrees() * 3600.0),
+                                ),
+                                param("phase_deg", atan2_deg(a, b), None),
+                            ]
+                        },
+                        shows,
+                    )
+                    .map(|p| s.wander_judged(p))
             })
             .collect()
     }

@@ -92,9 +92,9 @@ pub struct Diagnosis {
     /// The model estimated with a drift in the design, under which drift, jump and
     /// temperature are judged.
     pub drift_model: NoiseModel,
-    /// Whether drift, jump and temperature were also asked of the wander test (the noise
-    /// re-estimated with and without each): where the noise is estimated, up to 2000
-    /// positions.
+    /// Whether drift, jump, temperature, encoder harmonics and the 2 psi harmonic were also
+    /// asked of the wander test (the noise re-estimated with and without each): where the
+    /// noise is estimated, up to 2000 positions.
     pub wander_tested: bool,
     pub noise_source: String,
     /// Whether the noise model was estimated from the recording (not given).

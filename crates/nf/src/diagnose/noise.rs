@@ -46,7 +46,7 @@ pub struct Noise {
     /// The most likely model with a drift in the design: for the tests of drift and jump.
     pub drift_model: NoiseModel,
     pub drift: Whitener,
-    /// The test of drift, jump and temperature with the noise estimated under each
+    /// The test of the effects a wandering bias can mimic with the noise estimated under each
     /// hypothesis; `None` when the noise was given or the run is thinned for its estimate.
     pub wander: Option<WanderTest>,
     /// The noise models the recording allows, with their likelihood weights (summing to 1),

@@ -47,7 +47,8 @@ pub struct Selector<'a> {
     pub cautious: &'a Whitener,
     /// The most coloured noise with a drift in its design, for the tests of drift and jump.
     pub drift: &'a Whitener,
-    /// Drift, jump and temperature also under the noise profiled with and without them.
+    /// The effects a wandering bias can mimic, also under the noise profiled with and
+    /// without them.
     pub wander: Option<&'a WanderTest>,
     pub effects: &'a [Box<dyn Effect>],
     pub tail_dof: f64,

@@ -116,8 +116,9 @@ struct NoiseModelJson<'a> {
     source: &'a str,
     /// The model estimated with a drift: drift, jump and temperature are judged under it.
     with_drift: ColouredJson,
-    /// Whether drift, jump and temperature were also judged with the noise re-estimated with
-    /// and without each (a likelihood ratio; named only when both tests find them).
+    /// Whether drift, jump, temperature, encoder harmonics and the 2 psi harmonic were also
+    /// judged with the noise re-estimated with and without each (a likelihood ratio; named
+    /// only when both tests find them).
     wander_tested: bool,
 }
 
