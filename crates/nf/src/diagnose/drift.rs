@@ -39,6 +39,10 @@ impl Effect for BiasDrift {
             },
             "curves with time over the run".into(),
         );
-        linear.into_iter().chain(curved).map(|p| s.wander_judged(p)).collect()
+        linear
+            .into_iter()
+            .chain(curved)
+            .map(|p| s.wander_judged(p, 1))
+            .collect()
     }
 }

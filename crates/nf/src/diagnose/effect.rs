@@ -101,6 +101,9 @@ pub struct State<'a> {
     pub named: &'a [Kind],
     /// Degrees of freedom of the Student-t the whitened noise follows; infinite if Gaussian.
     pub tail_dof: f64,
+    /// The step's family-wise level: a p-value at or above it is not significant, whatever
+    /// else is tested.
+    pub alpha: f64,
 }
 
 impl State<'_> {
@@ -117,12 +120,16 @@ impl State<'_> {
     /// harmonic) is significant only when its F test and the wander test both say so (an
     /// intersection-union test: its size is at most either's). Over one run a random walk
     /// and a drift are one wander, and each test alone takes one for the other in a
-    /// different share of runs.
-    pub fn wander_judged(&self, mut p: Proposal) -> Proposal {
+    /// different share of runs. `p.p` comes corrected for the `scan` candidates a scan
+    /// chose from (1 without a scan), and the wander test's p-value is corrected alike.
+    pub fn wander_judged(&self, mut p: Proposal, scan: usize) -> Proposal {
+        if p.p >= self.alpha {
+            return p;
+        }
         if let (Some(null), Change::Columns(cols)) = (self.wander, &p.change)
             && let Some(pw) = null.p_value(cols)
         {
-            p.p = p.p.max(pw);
+            p.p = p.p.max((pw * scan as f64).min(1.0));
         }
         p
     }

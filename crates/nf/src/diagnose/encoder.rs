@@ -59,7 +59,7 @@ impl Effect for EncoderError {
                         },
                         shows,
                     )
-                    .map(|p| s.wander_judged(p))
+                    .map(|p| s.wander_judged(p, 1))
             })
             .collect()
     }

@@ -29,26 +29,25 @@ impl Effect for BiasJump {
             .min_by(|a, b| a.0.total_cmp(&b.0));
         let Some((p, j, big)) = best else { return Vec::new() };
         let row = &d.rec.rows[j];
-        let judged = s.wander_judged(Proposal {
-            kind: Kind::BiasJump,
-            p,
-            change: Change::Columns(vec![step(j)]),
-            parameters: vec![
-                param("size_dph", big.coef, Some(big.sigma())),
-                param("time_s", (d.t[j - 1] + d.t[j]) / 2.0, None),
-                param("first_index_after", row.index as f64, None),
-            ],
-            location: format!(
-                "between t = {:.1} s and {:.1} s (before position {})",
-                d.t[j - 1],
-                d.t[j],
-                row.index
-            ),
-            scanned: 1,
-        });
-        vec![Proposal {
-            p: (judged.p * (n - 4) as f64).min(1.0),
-            ..judged
-        }]
+        vec![s.wander_judged(
+            Proposal {
+                kind: Kind::BiasJump,
+                p: (p * (n - 4) as f64).min(1.0),
+                change: Change::Columns(vec![step(j)]),
+                parameters: vec![
+                    param("size_dph", big.coef, Some(big.sigma())),
+                    param("time_s", (d.t[j - 1] + d.t[j]) / 2.0, None),
+                    param("first_index_after", row.index as f64, None),
+                ],
+                location: format!(
+                    "between t = {:.1} s and {:.1} s (before position {})",
+                    d.t[j - 1],
+                    d.t[j],
+                    row.index
+                ),
+                scanned: 1,
+            },
+            n - 4,
+        )]
     }
 }

@@ -40,7 +40,7 @@ impl Effect for Nonlinearity {
                 "a second harmonic locked to 2 psi".into(),
             )
             .into_iter()
-            .map(|p| s.wander_judged(p))
+            .map(|p| s.wander_judged(p, 1))
             .collect()
     }
 }

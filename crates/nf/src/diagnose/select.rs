@@ -147,6 +147,7 @@ impl<'a> Selector<'a> {
             summary: summary(fit),
             named,
             tail_dof: self.tail_dof,
+            alpha: self.alpha,
         };
         let mut cands: Vec<Proposal> = self.effects.iter().flat_map(|e| e.test(&state)).collect();
         let limit = self.alpha / cands.len().max(1) as f64;

@@ -31,7 +31,7 @@ impl Effect for ThermalDrift {
                 "follows the recorded temperature".into(),
             )
             .into_iter()
-            .map(|p| s.wander_judged(p))
+            .map(|p| s.wander_judged(p, 1))
             .collect()
     }
 }
