@@ -176,9 +176,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     // only: a Gauss-Markov bias claims the wander bounded, and a drift judged under it is
     // named wherever the run is longer than its time.
     let drift_model = with_drift.as_ref().map_or(cautious_model, |e| {
-        std::iter::once(&e.best)
-            .chain(&e.grid)
-            .filter(|c| Term::GaussMarkov.absent(&c.model))
+        flicker_and_walk(e)
             .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
             .map_or(e.best.model, |c| c.model)
     });
@@ -186,10 +184,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         None
     } else {
         let near = |e: &noise_est::Estimate| {
-            let mut wander: Vec<&Candidate> = std::iter::once(&e.best)
-                .chain(&e.grid)
-                .filter(|c| Term::GaussMarkov.absent(&c.model))
-                .collect();
+            let mut wander: Vec<&Candidate> = flicker_and_walk(e).collect();
             wander.sort_by(|a, b| b.loglik.total_cmp(&a.loglik));
             wander
                 .into_iter()
@@ -234,11 +229,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
 /// likelihood, weighted by it (a Gauss-Markov model's sigma is too small when averaged: see
 /// [`noise_est::Colours`]).
 fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
-    let wander = || {
-        std::iter::once(&e.best)
-            .chain(&e.grid)
-            .filter(|c| Term::GaussMarkov.absent(&c.model))
-    };
+    let wander = || flicker_and_walk(e);
     let top = wander().map(|c| c.loglik).fold(f64::MIN, f64::max);
     let kept: Vec<(f64, NoiseModel)> = wander()
         .map(|c| ((c.loglik - top).exp(), c.model))
@@ -246,6 +237,13 @@ fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
         .collect();
     let total: f64 = kept.iter().map(|k| k.0).sum();
     kept.into_iter().map(|(w, m)| (w / total, m)).collect()
+}
+
+/// The estimate's models without a Gauss-Markov term, its best first.
+fn flicker_and_walk(e: &noise_est::Estimate) -> impl Iterator<Item = &Candidate> {
+    std::iter::once(&e.best)
+        .chain(&e.grid)
+        .filter(|c| Term::GaussMarkov.absent(&c.model))
 }
 
 /// The model within one sigma of the likelihood's best that wanders most over the run.
