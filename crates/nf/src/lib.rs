@@ -31,6 +31,8 @@ mod semisep;
 pub mod sim_compare;
 pub mod static_log;
 mod stats;
+#[cfg(test)]
+mod sweep_run;
 pub mod textfile;
 pub mod tilt;
 pub mod twin_check;

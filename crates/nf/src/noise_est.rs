@@ -510,7 +510,7 @@ fn refine(p: &Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<Estim
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nf_model::rng::Rng;
+    use crate::sweep_run::{Sweep, SweepRun};
 
     #[test]
     fn thinning_keeps_one_row_in_k_and_drops_the_columns_it_empties() {
@@ -536,33 +536,17 @@ mod tests {
         );
     }
 
-    struct Run {
-        t: Vec<f64>,
-        cols: Vec<Vec<f64>>,
-        y: Vec<f64>,
-        quarters: Vec<[f64; 4]>,
-    }
-
     /// Dwell means of a sequential run under white noise, with a random walk of `walk` per
     /// dwell, and their quarters.
-    fn run(n: usize, walk: f64, seed: u64) -> Run {
-        let mut rng = Rng::new(seed);
-        let t: Vec<f64> = (0..n).map(|i| 5.0 + 1.2 * i as f64).collect();
-        let g: Vec<f64> = (0..n).map(|i| (i as f64 * 360.0 / n as f64).to_radians()).collect();
-        let cols = vec![
-            vec![1.0; n],
-            g.iter().map(|g| g.cos()).collect(),
-            g.iter().map(|g| g.sin()).collect(),
-        ];
-        let mut bias = 0.0;
-        let quarters: Vec<[f64; 4]> = (0..n)
-            .map(|i| {
-                bias += walk * rng.gauss();
-                core::array::from_fn(|_| 3.0 + 10.0 * cols[1][i] + bias + 0.02 * rng.gauss())
-            })
-            .collect();
-        let y = quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect();
-        Run { t, cols, y, quarters }
+    fn run(n: usize, walk: f64, seed: u64) -> SweepRun {
+        Sweep {
+            n,
+            t0_s: 5.0,
+            spacing_s: 1.2,
+            walk_dph: walk,
+            drift_dph_per_s: 0.0,
+        }
+        .run(seed)
     }
 
     #[test]

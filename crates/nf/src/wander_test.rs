@@ -259,6 +259,7 @@ fn norm2(v: &[f64]) -> f64 {
 mod tests {
     use super::*;
     use crate::gls::window_covariance;
+    use crate::sweep_run::{Sweep, SweepRun};
     use nf_model::rng::Rng;
 
     /// Dwell centres 1.35 s apart, 1 s dwells.
@@ -334,34 +335,17 @@ mod tests {
         }
     }
 
-    /// A sequential run: its design (constant, cos, sin), its rates with white quarter means
-    /// and a walk of `rrw` deg/h/sqrt(h), plus `drift` deg/h per s, and the quarters.
-    struct Run {
-        t: Vec<f64>,
-        cols: Vec<Vec<f64>>,
-        y: Vec<f64>,
-        quarters: Vec<[f64; 4]>,
-    }
-
-    fn run(n: usize, rrw: f64, drift: f64, seed: u64) -> Run {
-        let mut rng = Rng::new(seed);
-        let t = times(n);
-        let g: Vec<f64> = (0..n).map(|i| (i as f64 * 360.0 / n as f64).to_radians()).collect();
-        let cols = vec![
-            vec![1.0; n],
-            g.iter().map(|g| g.cos()).collect(),
-            g.iter().map(|g| g.sin()).collect(),
-        ];
-        let mut bias = 0.0;
-        let quarters: Vec<[f64; 4]> = (0..n)
-            .map(|i| {
-                bias += rrw * (1.35f64 / 3600.0).sqrt() * rng.gauss();
-                let rate = 10.0 * cols[1][i] + bias + drift * t[i];
-                core::array::from_fn(|_| rate + 0.02 * rng.gauss())
-            })
-            .collect();
-        let y = quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect();
-        Run { t, cols, y, quarters }
+    /// A sequential run of dwells 1.35 s apart, its bias walking by `rrw` deg/h/sqrt(h) and
+    /// drifting by `drift` deg/h per s.
+    fn run(n: usize, rrw: f64, drift: f64, seed: u64) -> SweepRun {
+        Sweep {
+            n,
+            t0_s: 0.5,
+            spacing_s: 1.35,
+            walk_dph: rrw * (1.35f64 / 3600.0).sqrt(),
+            drift_dph_per_s: drift,
+        }
+        .run(seed)
     }
 
     fn p_of(n: usize, rrw: f64, drift: f64, seed: u64) -> f64 {
