@@ -6,8 +6,10 @@
 
 mod bias_step;
 pub mod biss;
+mod bridge;
 mod devices;
 mod encoder_error;
+mod gm_process;
 pub mod noise;
 mod quartered;
 mod shocks;

@@ -25,7 +25,7 @@ impl StaticLog {
         let n = (self.duration_s * self.sample_rate_hz).floor() as u64;
         for i in 0..n {
             let t = i as f64 * period;
-            let r = self.rate_dph + g.bias_dph(t) + g.white_dph(period);
+            let r = self.rate_dph + g.bias_dph(t, period) + g.white_dph(period);
             row(t, q.output_dph(self.noise.quantization_arcsec, r, period));
         }
     }

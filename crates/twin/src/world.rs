@@ -250,10 +250,12 @@ impl World {
         self.cfg.temp0_c + self.cfg.temp_ramp_c_per_s * t + self.cfg.temp_swing.at(t)
     }
 
-    /// The gyro rate (deg/h) the rebalance loop outputs now, before noise.
+    /// The gyro rate (deg/h) of the sample the ADC converts now, before white noise: the
+    /// wandering bias as its mean over the sample period, the rest at this instant.
     pub fn rate_dph(&mut self) -> f64 {
         let t = self.t_s();
-        let bias_noise = self.noise.bias_dph(t) + self.shocks.at(t);
+        let period = 1.0 / self.cfg.sample_rate_hz.max(1) as f64;
+        let bias_noise = self.noise.bias_dph(t, period) + self.shocks.at(t);
         let c = &self.cfg;
         let since = t - self.last_move_end_s;
         let settle = c.settle_dph * (-since / c.settle_tau_s).exp();
