@@ -16,6 +16,7 @@ use crate::linfit;
 use crate::quarter_contrasts::{Part, QuarterContrasts};
 use crate::stats::f_sf;
 use nf_model::noise::NoiseModel;
+use std::cell::OnceCell;
 
 /// Halvings of the search step around the best model, from a quarter decade of B^2 and K^2.
 const REFINE: usize = 4;
@@ -170,6 +171,31 @@ impl Whitened {
         let mut cols = self.cols.clone();
         cols.extend(extra.iter().cloned());
         s.loglik(linfit::fit(&cols, &self.y)?.rss)
+    }
+}
+
+/// A null hypothesis fitted when it is first asked for: most selection steps find no effect
+/// below their level, and then nothing asks.
+pub struct LazyNull<'a> {
+    test: Option<&'a WanderTest>,
+    cols: Vec<Vec<f64>>,
+    y: Vec<f64>,
+    null: OnceCell<Option<Null<'a>>>,
+}
+
+impl<'a> LazyNull<'a> {
+    /// `y ~ cols` under `test`; never fitted without one.
+    pub fn new(test: Option<&'a WanderTest>, cols: Vec<Vec<f64>>, y: Vec<f64>) -> Self {
+        LazyNull {
+            test,
+            cols,
+            y,
+            null: OnceCell::new(),
+        }
+    }
+
+    pub fn get(&self) -> Option<&Null<'a>> {
+        self.null.get_or_init(|| self.test?.null(&self.cols, &self.y)).as_ref()
     }
 }
 

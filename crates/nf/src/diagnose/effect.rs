@@ -6,7 +6,7 @@ use super::model::{Model, Summary};
 use super::whiten::Whitener;
 use crate::linfit::Ls;
 use crate::stats::f_sf;
-use crate::wander_test::Null;
+use crate::wander_test::LazyNull;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Param {
@@ -94,9 +94,9 @@ pub struct State<'a> {
     pub cautious: &'a Frame<'a>,
     pub drift: &'a Frame<'a>,
     /// The model so far as the null of the test of an effect a wandering bias can mimic,
-    /// with the noise profiled under each hypothesis; `None` where the drift frame's F test
-    /// stands alone.
-    pub wander: Option<&'a Null<'a>>,
+    /// with the noise profiled under each hypothesis; it has none where the drift frame's F
+    /// test stands alone.
+    pub wander: &'a LazyNull<'a>,
     pub summary: Summary,
     pub named: &'a [Kind],
     /// Degrees of freedom of the Student-t the whitened noise follows; infinite if Gaussian.
@@ -126,7 +126,8 @@ impl State<'_> {
         if p.p >= self.alpha {
             return p;
         }
-        if let (Some(null), Change::Columns(cols)) = (self.wander, &p.change)
+        if let Change::Columns(cols) = &p.change
+            && let Some(null) = self.wander.get()
             && let Some(pw) = null.p_value(cols)
         {
             p.p = p.p.max((pw * scan as f64).min(1.0));

@@ -11,7 +11,7 @@ use super::kind::Kind;
 use super::model::{Model, Summary, summary};
 use super::whiten::Whitener;
 use crate::linfit::Ls;
-use crate::wander_test::WanderTest;
+use crate::wander_test::{LazyNull, WanderTest};
 
 /// Steps before the selection stops regardless.
 const MAX_STEPS: usize = 12;
@@ -135,15 +135,17 @@ impl<'a> Selector<'a> {
             }
         };
         let (cautious, drift) = (under(self.cautious), under(self.drift));
-        let null = self
-            .wander
-            .and_then(|w| w.null(&model.cols.iter().map(|c| c.raw.clone()).collect::<Vec<_>>(), &model.y));
+        let cols = match self.wander {
+            Some(_) => model.cols.iter().map(|c| c.raw.clone()).collect(),
+            None => Vec::new(),
+        };
+        let null = LazyNull::new(self.wander, cols, model.y.clone());
         let state = State {
             data: self.data,
             main: &main,
             cautious: &cautious,
             drift: &drift,
-            wander: null.as_ref(),
+            wander: &null,
             summary: summary(fit),
             named,
             tail_dof: self.tail_dof,
