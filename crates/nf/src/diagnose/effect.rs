@@ -47,6 +47,8 @@ pub struct Proposal {
     /// Parameters chosen by a scan (a change time, a position): counted by the information
     /// criterion of the model averaging.
     pub scanned: usize,
+    /// The effect's own test's p-value where the wander test raised `p`.
+    pub own_p: Option<f64>,
 }
 
 /// A fit of the model on columns whitened by one noise model.
@@ -76,6 +78,7 @@ impl Frame<'_> {
             change: Change::Columns(cols),
             location,
             scanned: 0,
+            own_p: None,
         })
     }
 }
@@ -130,7 +133,9 @@ impl State<'_> {
             && let Some(null) = self.wander.get()
             && let Some(pw) = null.p_value(cols)
         {
-            p.p = p.p.max((pw * scan as f64).min(1.0));
+            let judged = p.p.max((pw * scan as f64).min(1.0));
+            p.own_p = Some(p.p);
+            p.p = judged;
         }
         p
     }

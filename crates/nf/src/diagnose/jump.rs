@@ -46,6 +46,7 @@ impl Effect for BiasJump {
                     row.index
                 ),
                 scanned: 1,
+                own_p: None,
             },
             n - 4,
         )]

@@ -93,8 +93,8 @@ pub struct Diagnosis {
     /// temperature are judged.
     pub drift_model: NoiseModel,
     /// Whether drift, jump, temperature, encoder harmonics and the 2 psi harmonic were also
-    /// asked of the wander test (the noise re-estimated with and without each): where the
-    /// noise is estimated, up to 2000 positions.
+    /// asked of the wander test (the noise re-estimated with and without each): up to 2000
+    /// positions, whether the noise is estimated or given.
     pub wander_tested: bool,
     pub noise_source: String,
     /// Whether the noise model was estimated from the recording (not given).

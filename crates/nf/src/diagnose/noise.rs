@@ -17,7 +17,7 @@ use super::tails::{Tails, shock_mix};
 use super::whiten::Whitener;
 use crate::gls::WindowSet;
 use crate::linfit;
-use crate::noise_est::{self, Candidate, Term, Thinned};
+use crate::noise_est::{self, Candidate, THINNED, Term, Thinned};
 use crate::noise_fit::{NoiseChoice, dwell_of};
 use crate::wander_test::WanderTest;
 use nf_model::noise::NoiseModel;
@@ -117,8 +117,17 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         windows: WindowSet::new(&d.t, &vec![dwell_s; n]),
     };
     let whitener_of = |m: &NoiseModel| whitening.of(m);
+    // The quarters show the short-time noise inside each dwell, whichever dwells have them
+    // (as `nf fit` takes them).
+    let quarters: Vec<[f64; 4]> = d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
     if let NoiseChoice::Given(m, label) = choice {
         let given = whitener_of(m)?;
+        // A model from a static log is the gyro's there; this run's wander at its own
+        // frequency can differ, so the effects it can mimic are also asked of the wander
+        // test, started from the given model too.
+        let wander = (n <= THINNED)
+            .then(|| WanderTest::new(&d.t, dwell_s, &quarters, &[*m]))
+            .flatten();
         return Ok(Noise {
             model: *m,
             whitener: given.clone(),
@@ -126,7 +135,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             cautious: given.clone(),
             drift_model: *m,
             drift: given.clone(),
-            wander: None,
+            wander,
             plausible: vec![(1.0, *m)],
             source: format!("given: {label}"),
             terms: Vec::new(),
@@ -134,9 +143,6 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             whitening,
         });
     }
-    // The quarters show the short-time noise inside each dwell, whichever dwells have them
-    // (as `nf fit` takes them).
-    let quarters: Vec<[f64; 4]> = d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
     let robust = with_bursts_held_out(d, &cols, y);
     // With a drift in the design too: the wander a random walk makes beyond a smooth curve,
     // under which a drift or a jump is judged (below).

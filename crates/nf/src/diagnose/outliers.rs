@@ -47,6 +47,7 @@ impl Effect for Outliers {
                 row.index, row.line, d.gamma[i]
             ),
             scanned: 1,
+            own_p: None,
         }]
     }
 }

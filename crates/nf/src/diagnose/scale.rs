@@ -43,6 +43,7 @@ impl Effect for ScaleFactor {
             ],
             location: format!("the first-harmonic amplitude, {amp:.5} deg/h against {pred:.5} predicted"),
             scanned: 0,
+            own_p: None,
         }]
     }
 }

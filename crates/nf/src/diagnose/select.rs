@@ -153,10 +153,14 @@ impl<'a> Selector<'a> {
         };
         let mut cands: Vec<Proposal> = self.effects.iter().flat_map(|e| e.test(&state)).collect();
         let limit = self.alpha / cands.len().max(1) as f64;
-        cands.retain(|c| c.p < limit);
         // A left-out drift or jump also moves the amplitude: the scale factor stands only
-        // when nothing else is significant.
-        if cands.iter().any(|c| c.kind != Kind::ScaleFactor) {
+        // when nothing else is significant, by its own test even where the wander test does
+        // not confirm it.
+        let others = cands
+            .iter()
+            .any(|c| c.kind != Kind::ScaleFactor && c.own_p.unwrap_or(c.p) < limit);
+        cands.retain(|c| c.p < limit);
+        if others {
             cands.retain(|c| c.kind != Kind::ScaleFactor);
         }
         cands.sort_by(|a, b| a.p.total_cmp(&b.p));

@@ -61,6 +61,7 @@ impl Effect for SettlingTransient {
             ],
             location: "the first quarter of each dwell".into(),
             scanned: 0,
+            own_p: None,
         }]
     }
 }

@@ -89,6 +89,7 @@ impl Effect for ShaftTilt {
             parameters: self.parameters.clone(),
             location: self.location.clone(),
             scanned: 0,
+            own_p: None,
         }]
     }
 }
