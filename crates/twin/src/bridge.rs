@@ -24,10 +24,12 @@ pub fn gauss_markov(var: f64, tau: f64, d: f64, w: f64) -> Bridge {
     let (a, b) = (d / tau, w / tau);
     let c = a - b;
     let (ea, ec) = ((-a).exp(), (-c).exp());
+    // 1 - e^-b, and e^-c - e^-a = e^-c (1 - e^-b), without the differences of near equals.
+    let eb = -(-b).exp_m1();
     // Given x0 alone: the window's mean (per x0), its variance and covariance with the end.
-    let mean0 = ec * -(-b).exp_m1() / b;
-    let var0 = var / (b * b) * (2.0 * (b + (-b).exp_m1()) - (ec - ea).powi(2));
-    let cov = var / b * (-(-b).exp_m1() - ea * (ec - ea));
+    let mean0 = ec * eb / b;
+    let var0 = var / (b * b) * (2.0 * (b + (-b).exp_m1()) - (ec * eb).powi(2));
+    let cov = var / b * eb * -(-(a + c)).exp_m1();
     let var_end = -var * (-2.0 * a).exp_m1();
     let from_end = cov / var_end;
     Bridge {
@@ -107,6 +109,33 @@ mod tests {
             let step = |rng: &mut Rng, x: f64| x - x / tau * h + (2.0 * var / tau * h).sqrt() * rng.gauss();
             check(step, gauss_markov(var, tau, d, w), 0.7, d, w);
         }
+    }
+
+    #[test]
+    fn bridges_hold_from_far_faster_to_far_slower_than_their_window() {
+        for tau in [1e-6, 1e-3, 1.0, 1e3, 3e6] {
+            for (d, w) in [(1e-3, 1e-3), (0.5, 1e-3), (6e4, 1e-3)] {
+                let b = gauss_markov(2.0, tau, d, w);
+                // Given both ends the window's mean lies between them, and varies less than
+                // the process.
+                assert!(
+                    b.var.is_finite() && (0.0..=2.0).contains(&b.var),
+                    "{tau} {d} {w}: {b:?}"
+                );
+                assert!(b.from_start >= -1e-12 && b.from_end >= -1e-12, "{tau} {d} {w}: {b:?}");
+                assert!(b.from_start + b.from_end <= 1.0 + 1e-12, "{tau} {d} {w}: {b:?}");
+            }
+        }
+        // Much slower than the step, a Gauss-Markov process is a random walk of 2 var / tau
+        // per second.
+        let (var, tau, d, w) = (2.0, 1e6, 10.0, 1.0);
+        let (gm, walk) = (
+            gauss_markov(var, tau, d, w),
+            random_walk((2.0 * var / tau).sqrt(), d, w),
+        );
+        assert!((gm.from_end - walk.from_end).abs() < 1e-4, "{gm:?} {walk:?}");
+        assert!((gm.from_start - walk.from_start).abs() < 1e-4, "{gm:?} {walk:?}");
+        assert!((gm.var / walk.var - 1.0).abs() < 1e-3, "{gm:?} {walk:?}");
     }
 
     #[test]
