@@ -219,6 +219,16 @@ fn simulate_then_fit_json() {
     assert!(out.contains(static_log), "{out}");
     let (code, out, _) = nf(&["fit", &rec, "--arw", "1.2e-4"]);
     assert!(code == 0 && !out.contains(static_log), "{out}");
+    // diagnose says which model judged what; a given one judges every effect, and the wander
+    // test still checks it against the run.
+    let (code, out, _) = nf(&["diagnose", &rec, "--arw", "1.2e-4"]);
+    let given = "every effect judged under the given model";
+    assert!(
+        code == 0 && out.contains(given) && out.contains("also with the noise re-estimated"),
+        "{out}"
+    );
+    let (_, out, _) = nf(&["diagnose", &rec]);
+    assert!(out.contains("estimated with a drift") && !out.contains(given), "{out}");
 }
 
 #[test]

@@ -224,16 +224,20 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         writeln!(out, "     {STATIC_LOG_HINT}")?;
     }
     let (c, r) = (&d.cautious_model, &d.drift_model);
-    writeln!(
-        out,
-        "     encoder harmonics and the slow amplitude and 2 psi harmonic judged under the most coloured plausible model: {}",
-        colour_text(c)
-    )?;
-    writeln!(
-        out,
-        "     drift, jump and temperature judged under the model estimated with a drift: {}",
-        colour_text(r)
-    )?;
+    if d.noise_estimated {
+        writeln!(
+            out,
+            "     encoder harmonics and the slow amplitude and 2 psi harmonic judged under the most coloured plausible model: {}",
+            colour_text(c)
+        )?;
+        writeln!(
+            out,
+            "     drift, jump and temperature judged under the model estimated with a drift: {}",
+            colour_text(r)
+        )?;
+    } else {
+        writeln!(out, "     every effect judged under the given model")?;
+    }
     if d.wander_tested {
         writeln!(
             out,
