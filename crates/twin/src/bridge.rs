@@ -16,6 +16,30 @@ impl Bridge {
     pub fn mean(&self, x0: f64, x1: f64) -> f64 {
         self.from_start * x0 + self.from_end * x1
     }
+
+    /// The window's mean given the ends `x0` and `x1`, with the variance left.
+    pub fn read(&self, x0: f64, x1: f64) -> WindowRead {
+        WindowRead {
+            mean: self.mean(x0, x1),
+            var: self.var,
+        }
+    }
+}
+
+/// A window's mean given a process's ends, and the variance it keeps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WindowRead {
+    pub mean: f64,
+    pub var: f64,
+}
+
+impl WindowRead {
+    pub fn plus(self, other: WindowRead) -> WindowRead {
+        WindowRead {
+            mean: self.mean + other.mean,
+            var: self.var + other.var,
+        }
+    }
 }
 
 /// A stationary Gauss-Markov process of variance `var` and correlation time `tau`.

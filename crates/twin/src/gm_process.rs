@@ -2,7 +2,7 @@
 //! mean over each sample's window. Samples keep their spacing, so a step's coefficients are
 //! kept from one sample to the next.
 
-use crate::bridge::{self, Bridge};
+use crate::bridge::{self, Bridge, WindowRead};
 
 #[derive(Debug, Clone)]
 pub struct GaussMarkov {
@@ -21,22 +21,6 @@ struct Step {
     decay: f64,
     sd: f64,
     bridge: Bridge,
-}
-
-/// The window's mean given the process's ends, and the variance it keeps.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct WindowRead {
-    pub mean: f64,
-    pub var: f64,
-}
-
-impl WindowRead {
-    pub fn plus(self, other: WindowRead) -> WindowRead {
-        WindowRead {
-            mean: self.mean + other.mean,
-            var: self.var + other.var,
-        }
-    }
 }
 
 impl GaussMarkov {
@@ -82,9 +66,6 @@ impl GaussMarkov {
         let start = self.value;
         self.value = s.decay * start + s.sd * z;
         self.at_s = t_s;
-        WindowRead {
-            mean: s.bridge.mean(start, self.value),
-            var: s.bridge.var,
-        }
+        s.bridge.read(start, self.value)
     }
 }

@@ -7,8 +7,8 @@
 //! from a decade above the sample rate to a month (Keshner's construction). This is independent of
 //! `nf_model::noise`, which states the flicker covariance in closed form; the tests compare them.
 
-use crate::bridge;
-use crate::gm_process::{GaussMarkov, WindowRead};
+use crate::bridge::{self, WindowRead};
+use crate::gm_process::GaussMarkov;
 use nf_model::noise::NoiseModel;
 use nf_model::rng::Rng;
 
@@ -89,11 +89,7 @@ impl GyroNoise {
         let k = self.model.rrw_dph_rts();
         let walk = self.walk + k * dt.sqrt() * self.rng.gauss();
         if k > 0.0 {
-            let b = bridge::random_walk(k, dt, w);
-            read = read.plus(WindowRead {
-                mean: b.mean(self.walk, walk),
-                var: b.var,
-            });
+            read = read.plus(bridge::random_walk(k, dt, w).read(self.walk, walk));
         }
         self.walk = walk;
         if self.model.gm_sigma_dph > 0.0 {
