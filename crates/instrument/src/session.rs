@@ -18,16 +18,18 @@ pub enum Assembled<'a> {
     Line(&'a str),
     /// A line longer than [`MAX_COMMAND`] ended; none of it is executed.
     TooLong,
-    /// A line that is not UTF-8 ended.
-    NotUtf8,
+    /// A line with a byte outside ASCII ended (the commands are ASCII).
+    NotAscii,
 }
 
 /// Collects bytes into command lines.
 #[derive(Debug, Default)]
 pub struct LineAssembler {
-    buf: Vec<u8, MAX_COMMAND>,
+    buf: String<MAX_COMMAND>,
     /// Inside a line that overflowed: skip to its end.
     discarding: bool,
+    /// The line so far has a byte outside ASCII.
+    not_ascii: bool,
     /// The last byte returned a line: clear before the next.
     done: bool,
 }
@@ -36,6 +38,7 @@ impl LineAssembler {
     pub fn push(&mut self, byte: u8) -> Option<Assembled<'_>> {
         if core::mem::take(&mut self.done) {
             self.buf.clear();
+            self.not_ascii = false;
         }
         if byte == b'\n' || byte == b'\r' {
             if core::mem::take(&mut self.discarding) {
@@ -45,14 +48,19 @@ impl LineAssembler {
                 return None;
             }
             self.done = true;
-            return Some(match core::str::from_utf8(&self.buf) {
-                Ok(s) => Assembled::Line(s),
-                Err(_) => Assembled::NotUtf8,
+            return Some(if self.not_ascii {
+                Assembled::NotAscii
+            } else {
+                Assembled::Line(&self.buf)
             });
         }
-        if !self.discarding && self.buf.push(byte).is_err() {
+        // A byte outside ASCII still counts toward the length; ASCII needs no UTF-8 decoder.
+        self.not_ascii |= !byte.is_ascii();
+        let c = if byte.is_ascii() { byte as char } else { '?' };
+        if !self.discarding && self.buf.push(c).is_err() {
             self.discarding = true;
             self.buf.clear();
+            self.not_ascii = false;
         }
         None
     }
@@ -130,7 +138,7 @@ impl Session {
                 let _ = l.push_str(" bytes)");
                 (Action::None, one(l))
             }
-            Assembled::NotUtf8 => (Action::None, line("ERR line is not text")),
+            Assembled::NotAscii => (Action::None, line("ERR line is not text")),
         }
     }
 
@@ -279,7 +287,7 @@ mod tests {
             match a.push(b) {
                 Some(Assembled::Line(l)) => out.push(l.into()),
                 Some(Assembled::TooLong) => out.push("<too long>".into()),
-                Some(Assembled::NotUtf8) => out.push("<not utf8>".into()),
+                Some(Assembled::NotAscii) => out.push("<not ascii>".into()),
                 None => {}
             }
         }
@@ -298,7 +306,19 @@ mod tests {
         let mut bytes = std::vec![b'x'; 100];
         bytes.extend_from_slice(b" START\nSTATUS\n");
         assert_eq!(feed(&mut a, &bytes), ["<too long>", "STATUS"]);
-        assert_eq!(feed(&mut a, &[0xff, b'\n']), ["<not utf8>"]);
+        assert_eq!(feed(&mut a, &[0xff, b'\n']), ["<not ascii>"]);
+    }
+
+    #[test]
+    fn a_line_outside_ascii_is_refused_whole_and_the_next_one_runs() {
+        let mut a = LineAssembler::default();
+        let mut bytes = "SET latitude 43.8\u{b0}\nSTATUS\n".as_bytes().to_vec();
+        bytes.extend_from_slice(b"STA\xffTUS\nSTATUS\n");
+        assert_eq!(feed(&mut a, &bytes), ["<not ascii>", "STATUS", "<not ascii>", "STATUS"]);
+        // Its bytes count toward the length: 79 x and a two-byte character are too long.
+        let mut long = std::vec![b'x'; 79];
+        long.extend_from_slice("\u{b0}\nSTATUS\n".as_bytes());
+        assert_eq!(feed(&mut a, &long), ["<too long>", "STATUS"]);
     }
 
     #[test]

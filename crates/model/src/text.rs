@@ -31,8 +31,8 @@ fn write_digits<W: Write>(w: &mut W, mut v: u64, width: usize) -> Result {
         v /= 10;
     }
     at = at.min(buf.len() - width.clamp(1, buf.len()));
-    // ASCII digits only: the conversion cannot fail.
-    w.write_str(core::str::from_utf8(&buf[at..]).unwrap_or("?"))
+    // Char by char: a str from the bytes would link a UTF-8 decoder into the firmware.
+    buf[at..].iter().try_for_each(|&d| w.write_char(char::from(d)))
 }
 
 pub fn write_u64<W: Write>(w: &mut W, v: u64) -> Result {
