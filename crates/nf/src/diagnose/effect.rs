@@ -3,6 +3,7 @@
 use super::data::Data;
 use super::kind::Kind;
 use super::model::{Model, Summary};
+use super::tails::TailLaw;
 use super::whiten::Whitener;
 use crate::linfit::Ls;
 use crate::stats::f_sf;
@@ -102,8 +103,8 @@ pub struct State<'a> {
     pub wander: &'a LazyNull<'a>,
     pub summary: Summary,
     pub named: &'a [Kind],
-    /// Degrees of freedom of the Student-t the whitened noise follows; infinite if Gaussian.
-    pub tail_dof: f64,
+    /// The tails the whitened noise allows.
+    pub tails: TailLaw,
     /// The step's family-wise level: a p-value at or above it is not significant, whatever
     /// else is tested.
     pub alpha: f64,

@@ -162,7 +162,16 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let start = Model::new(d.base_cols(), y, w);
     let design = Model::new(noise.design.clone(), start.y.clone(), w);
     let design_fit = design.fit();
-    let tails = tails::estimate(design_fit.as_ref().map_or(&[][..], |f| &f.resid));
+    let tails = design_fit.as_ref().map_or_else(
+        || tails::estimate(&[]),
+        |f| {
+            // The largest held out by its own column: the design's columns would absorb part
+            // of a burst and spread the rest over the others, where it reads as a tail.
+            let i = tails::largest(&f.resid).unwrap_or(0);
+            let held = design.fit_plus(&[d.indicator(i)]);
+            tails::estimate_held_out(&held.map_or_else(|| f.resid.clone(), |h| h.resid), i)
+        },
+    );
     let rate_resid = design_fit.map(|f| design.raw_residuals(&f)).unwrap_or_default();
     let mut effects: Vec<Box<dyn Effect>> = vec![
         Box::new(drift::BiasDrift),
@@ -189,7 +198,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         drift: &noise.drift,
         wander: noise.wander.as_ref(),
         effects: &effects,
-        tail_dof: tails.dof,
+        tails: tails.law,
         alpha: opt.alpha * (1.0 - UNEXPLAINED_SHARE),
     }
     .run(start)?;

@@ -359,7 +359,7 @@ pub fn findings(noise: &Noise, tails: &Tails, rate_resid: &[f64], level: f64) ->
             effect: Kind::HeavyTails,
             parameters,
             p_value: tails.p,
-            location: "the whitened residuals: the outlier test is judged under this Student-t".into(),
+            location: "the whitened residuals: the outlier test is judged under every tail they allow".into(),
             after,
         });
     }

@@ -1,11 +1,10 @@
 //! `outliers`: one disturbed position. The largest externally studentised residual of the
-//! whitened fit, Bonferroni over the positions; judged against the Student-t the noise
-//! follows, so that heavy-tailed noise is not read as a string of outliers.
+//! whitened fit, Bonferroni over the positions; judged under every tail the noise allows
+//! ([`super::tails::TailLaw`]), so that heavy-tailed noise is not read as a string of outliers.
 
 use super::effect::{Change, Effect, Proposal, State, param};
 use super::kind::Kind;
 use super::scan::{Shape, scan};
-use crate::stats::t_sf2;
 
 pub struct Outliers;
 
@@ -29,10 +28,7 @@ impl Effect for Outliers {
             })
             .max_by(|a, b| a.0.total_cmp(&b.0));
         let Some((t, i, big)) = best else { return Vec::new() };
-        let p_one = match s.tail_dof {
-            nu if nu.is_finite() => t_sf2(t * (nu / (nu - 2.0)).sqrt(), nu),
-            _ => t_sf2(t, big.dof as f64),
-        };
+        let p_one = s.tails.sf2(t, big.dof as f64);
         let row = &d.rec.rows[i];
         vec![Proposal {
             kind: Kind::Outliers,

@@ -9,6 +9,7 @@ use super::data::Data;
 use super::effect::{Change, Effect, Frame, Param, Proposal, State};
 use super::kind::Kind;
 use super::model::{Model, Summary, summary};
+use super::tails::TailLaw;
 use super::whiten::Whitener;
 use crate::linfit::Ls;
 use crate::wander_test::{LazyNull, WanderTest};
@@ -51,7 +52,7 @@ pub struct Selector<'a> {
     /// without them.
     pub wander: Option<&'a WanderTest>,
     pub effects: &'a [Box<dyn Effect>],
-    pub tail_dof: f64,
+    pub tails: TailLaw,
     pub alpha: f64,
 }
 
@@ -148,7 +149,7 @@ impl<'a> Selector<'a> {
             wander: &null,
             summary: summary(fit),
             named,
-            tail_dof: self.tail_dof,
+            tails: self.tails,
             alpha: self.alpha,
         };
         let mut cands: Vec<Proposal> = self.effects.iter().flat_map(|e| e.test(&state)).collect();
