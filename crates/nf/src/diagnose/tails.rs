@@ -209,8 +209,9 @@ mod tests {
         // Dwell means with a Student-t(3) shock of half their size, as a shaken instrument
         // gives: the rest often looks normal. Judged under the most likely tail alone, the
         // largest was an outlier in 8.75 % of runs of 36 and 10.75 % of 72; under the law,
-        // 6 % and 7.75 %. (Of pure Student-t(3) noise it is still a quarter: the rest of such
-        // a run often looks normal too.)
+        // 6 % and 7.75 %. (Of pure Student-t(3) noise it is still 33 and 22 %, as before: the
+        // rest of such a run often looks normal too. At a selection step's level, some ten
+        // times smaller, 1 of 30 such recordings: `cargo test --test diagnose_noise`.)
         let shaken = |rng: &mut Rng| rng.gauss() + 0.5 * student(rng, 3) / 3f64.sqrt();
         for n in [36, 72] {
             let normal = outlier_rate(|rng| rng.gauss(), n);
