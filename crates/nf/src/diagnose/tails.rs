@@ -21,8 +21,8 @@ pub struct Tails {
 /// The tails the residuals allow: the weight of each Student-t of [`DOF`] and of the normal,
 /// by their likelihoods with half the prior on the normal. An outlier is judged under all of
 /// them: some 70 Gaussian-looking residuals cannot rule out a t of 5 to 10 dof, under which a
-/// value of 5 sigma among 70 comes in one run of ten, and a tail too weak to be named is no
-/// reason to call its largest value an outlier.
+/// value of 5 sigma among 70 comes in one run of 11 (5 dof) to 60 (10 dof), where the normal
+/// gives one in 25 000; a tail too weak to be named is no reason to call it an outlier.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TailLaw {
     /// Weights of the Student-t's of [`DOF`], in its order.
