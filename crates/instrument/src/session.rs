@@ -54,10 +54,13 @@ impl LineAssembler {
                 Assembled::Line(&self.buf)
             });
         }
+        if self.discarding {
+            return None;
+        }
         // A byte outside ASCII still counts toward the length; ASCII needs no UTF-8 decoder.
         self.not_ascii |= !byte.is_ascii();
         let c = if byte.is_ascii() { byte as char } else { '?' };
-        if !self.discarding && self.buf.push(c).is_err() {
+        if self.buf.push(c).is_err() {
             self.discarding = true;
             self.buf.clear();
             self.not_ascii = false;
@@ -319,6 +322,50 @@ mod tests {
         let mut long = std::vec![b'x'; 79];
         long.extend_from_slice("\u{b0}\nSTATUS\n".as_bytes());
         assert_eq!(feed(&mut a, &long), ["<too long>", "STATUS"]);
+        // Past the length, such a byte is dropped with the rest and leaves the next line alone.
+        let mut long = std::vec![b'x'; 100];
+        long.extend_from_slice(b"\xff\nSTATUS\n");
+        assert_eq!(feed(&mut a, &long), ["<too long>", "STATUS"]);
+    }
+
+    /// The assembler's contract, written plainly: lines end at CR or LF, empty ones vanish, a
+    /// line over [`MAX_COMMAND`] bytes is too long, else one with a byte outside ASCII is not
+    /// text.
+    fn model(bytes: &[u8]) -> std::vec::Vec<std::string::String> {
+        bytes
+            .split(|&b| b == b'\n' || b == b'\r')
+            .filter(|l| !l.is_empty())
+            .map(|l| match l {
+                l if l.len() > MAX_COMMAND => "<too long>".into(),
+                l if !l.is_ascii() => "<not ascii>".into(),
+                l => l.iter().map(|&b| b as char).collect(),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn random_byte_streams_are_cut_as_the_model_cuts_them() {
+        // Streams of lines of 0 to 120 bytes from an alphabet with both terminators and two
+        // non-ASCII bytes.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |m: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % m
+        };
+        let alphabet = [b'a', b'Z', b' ', b'7', b'\n', b'\r', 0xff, 0xc2];
+        let mut a = LineAssembler::default();
+        for _ in 0..2000 {
+            let mut bytes = std::vec::Vec::new();
+            for _ in 0..1 + next(4) {
+                let len = next(121) as usize;
+                // Mostly ASCII letters, so that long lines occur.
+                bytes.extend((0..len).map(|_| alphabet[if next(10) == 0 { next(8) } else { next(4) } as usize]));
+                bytes.push(b'\n');
+            }
+            assert_eq!(feed(&mut a, &bytes), model(&bytes), "{bytes:?}");
+        }
     }
 
     #[test]
