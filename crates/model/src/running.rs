@@ -126,7 +126,8 @@ impl<F: Float> RunningGls<F> {
             of::<F>(terms.arw_deg_rth) * c(SQRT_S_PER_H),
             of::<F>(terms.quantization_arcsec),
         );
-        let gm_sigma = of::<F>(terms.gm_sigma_dph);
+        let (gm_sigma, gm_tau) = (of::<F>(terms.gm_sigma_dph), of::<F>(terms.gm_tau_s));
+        let gm_var = gm_sigma * gm_sigma * mean_share(dwell_s / gm_tau);
         let mut f = RunningGls {
             r: [[F::zero(); STATES + 1]; STATES],
             dim: 0,
@@ -136,9 +137,9 @@ impl<F: Float> RunningGls<F> {
             // the Allan floor 0.664 B.
             member_var: b * b / c(core::f64::consts::PI) * c(LN_FLICKER_RATIO),
             // A term too small for the float type is no term.
-            gm: (positive(gm_sigma * gm_sigma)).then(|| Markov {
-                var: gm_sigma * gm_sigma * mean_share(dwell_s / of::<F>(terms.gm_tau_s)),
-                tau_s: of(terms.gm_tau_s),
+            gm: positive(gm_var).then_some(Markov {
+                var: gm_var,
+                tau_s: gm_tau,
             }),
             rrw_var_per_s: rrw * rrw / c(S_PER_H),
             model_white_var: w * w / dwell_s + c::<F>(2.0) * q * q / (dwell_s * dwell_s),
@@ -565,6 +566,21 @@ mod tests {
         }
         let a = f.azimuth();
         assert!((a.psi_deg - 65.5).abs() < 1e-3, "{a:?}");
+        // A Gauss-Markov term so fast that the share an hour's dwell keeps is below `f32`'s
+        // range: no term, not an infinite prior.
+        let tiny = NoiseTerms {
+            gm_sigma_dph: 1e-9,
+            gm_tau_s: 1e-30,
+            ..NoiseTerms::from(&NoiseModel::white(0.005, 3600.0))
+        };
+        let mut f = RunningGls::<f32>::new(&tiny, 3600.0).unwrap();
+        for k in 0..8u64 {
+            let g = k as f32 * 45.0;
+            let rate = (h() * (g as f64 + 65.5).to_radians().cos()) as f32;
+            f.add(g, k * 3_700_000_000, rate, None).unwrap();
+        }
+        let a = f.azimuth();
+        assert!(a.sigma_psi_deg.is_finite() && (a.psi_deg - 65.5).abs() < 1e-3, "{a:?}");
     }
 
     #[test]
