@@ -165,10 +165,11 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let tails = design_fit.as_ref().map_or_else(
         || tails::estimate(&[]),
         |f| {
-            // The largest held out by its own column: the design's columns would absorb part
-            // of a burst and spread the rest over the others, where it reads as a tail.
+            // The largest held out by its own (whitened) column: the design's columns would
+            // absorb part of a burst and spread the rest over the others, where it reads as a
+            // tail.
             let i = tails::largest(&f.resid).unwrap_or(0);
-            let held = design.fit_plus(&[d.indicator(i)]);
+            let held = design.fit_plus(&[w.apply(&d.indicator(i))]);
             tails::estimate_held_out(&held.map_or_else(|| f.resid.clone(), |h| h.resid), i)
         },
     );
