@@ -62,6 +62,27 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
     assert_eq!(code, 2);
 }
 
+/// A gyro the converter cannot hold: the run fails as the firmware would, and the message
+/// names the term and the largest value of it that fits; the largest fits indeed.
+#[test]
+fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
+    let out = tmp("sat.csv");
+    let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", "0.5", "-o", &out]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("ADC sat at full scale") && err.contains("0 positions written"),
+        "{err}"
+    );
+    let q = err
+        .split("a quantisation Q of at most ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .unwrap_or_else(|| panic!("no largest Q in: {err}"));
+    assert!(!err.contains("white noise of at most"), "{err}");
+    let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", q, "-o", &out]);
+    assert_eq!(code, 0, "Q = {q}: {err}");
+}
+
 #[test]
 fn diagnose_against_a_simulation_names_what_it_lacks_and_the_fix_reproduces_the_recording() {
     let (base, drift, rec, fixed) = (tmp("base.toml"), tmp("drift.toml"), tmp("rec.csv"), tmp("fixed.toml"));

@@ -1,5 +1,6 @@
 //! The command line: `nf simulate | fit | plan | paper | log | diagnose | allan`, one file each.
 
+mod adc_budget;
 mod allan;
 mod diagnose;
 mod diagnose_sim;

@@ -1,9 +1,11 @@
 //! `nf simulate`: a recording from the firmware logic on the digital twin.
 
+use super::adc_budget::AdcBudget;
 use super::noise_args::NoiseArgs;
 use super::{Fail, note, write_out};
 use crate::instrument_file::{EncoderError, InstrumentFile, Noise, Shocks, Site};
 use crate::range::{MAX_LATITUDE_DEG, above, real};
+use nf_instrument::run::Fault;
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
@@ -264,9 +266,15 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     }
     match report.result {
         Ok(()) => Ok(()),
-        Err(e) => Err(Fail(
-            format!("the run failed {e}; {} positions written", report.positions),
-            1,
-        )),
+        Err(e) => {
+            let why = match e.fault {
+                Fault::AdcSaturated { .. } => format!(" ({})", AdcBudget::of(&twin).explain()),
+                _ => String::new(),
+            };
+            Err(Fail(
+                format!("the run failed {e}{why}; {} positions written", report.positions),
+                1,
+            ))
+        }
     }
 }

@@ -1,0 +1,163 @@
+//! Why the twin's gyro ADC saturated: what one sample carries against the converter's full
+//! scale, and the noise terms that fit within it at this sample rate.
+
+use nf_model::EARTH_RATE_DPH;
+use nf_twin::TwinConfig;
+
+/// One ADC sample's rate budget, deg/h.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdcBudget {
+    pub sample_rate_hz: f64,
+    /// The smaller of the two rates the ADC's +-2^23 counts stand for.
+    pub full_scale_dph: f64,
+    /// White noise of one sample: the ARW density over the sample period.
+    pub white_sd_dph: f64,
+    /// Student-t degrees of freedom of the white noise (0: Gaussian).
+    pub student_t_dof: f64,
+    /// One quantisation step of the angle read over one sample period.
+    pub quant_step_dph: f64,
+    /// Bias plus the largest Earth rate the scaled gyro can see.
+    pub steady_dph: f64,
+    /// Standard deviation of a shock's rate offset (0: none).
+    pub shock_sd_dph: f64,
+}
+
+/// Sample noise up to this many standard deviations is taken to fit.
+const NOISE_SDS: f64 = 6.0;
+
+impl AdcBudget {
+    pub fn of(twin: &TwinConfig) -> Self {
+        let rate_hz = f64::from(twin.sample_rate_hz.max(1));
+        let full = 2f64.powi(23);
+        let cal = &twin.calibration;
+        let noise = &twin.noise;
+        let ins = &twin.instrument;
+        AdcBudget {
+            sample_rate_hz: rate_hz,
+            full_scale_dph: cal.rate_of_counts(full).abs().min(cal.rate_of_counts(-full).abs()),
+            white_sd_dph: noise.white_dph_rts() * rate_hz.sqrt(),
+            student_t_dof: noise.student_t_dof,
+            // deg/h times s is arcsec.
+            quant_step_dph: noise.quantization_arcsec * 12f64.sqrt() * rate_hz,
+            steady_dph: ins.bias_dph.abs() + ins.scale.abs() * EARTH_RATE_DPH,
+            shock_sd_dph: if twin.shocks.per_hour > 0.0 {
+                twin.shocks.size_dph
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// The budget in words, and which term leaves no room.
+    pub fn explain(&self) -> String {
+        let tails = if self.student_t_dof > 0.0 {
+            format!(
+                " (Student-t of {} dof: far beyond {NOISE_SDS} sd at times)",
+                self.student_t_dof
+            )
+        } else {
+            String::new()
+        };
+        let mut s = format!(
+            "one sample at {} Hz carries white noise of sd {:.3} deg/h{tails}",
+            self.sample_rate_hz, self.white_sd_dph
+        );
+        if self.quant_step_dph > 0.0 {
+            s += &format!(", a quantisation step of {:.3} deg/h", self.quant_step_dph);
+        }
+        if self.shock_sd_dph > 0.0 {
+            s += &format!(", shocks of sd {:.3} deg/h", self.shock_sd_dph);
+        }
+        s += &format!(
+            " and a steady rate up to {:.3} deg/h (bias and Earth rate), against the gyro ADC's full scale of +-{:.3} deg/h",
+            self.steady_dph, self.full_scale_dph
+        );
+        let room = self.full_scale_dph - self.steady_dph;
+        if room <= 0.0 {
+            return s + "; the steady rate alone leaves no room";
+        }
+        let mut fits = Vec::new();
+        if self.quant_step_dph > room {
+            // A step of `room` deg/h over one period is `room / rate` arcsec, Q sqrt(12).
+            let q = room / self.sample_rate_hz / 12f64.sqrt();
+            fits.push(format!("a quantisation Q of at most {q:.3e} arcsec"));
+        }
+        if NOISE_SDS * self.white_sd_dph > room || self.student_t_dof > 0.0 {
+            // sd = 60 N sqrt(rate), N in deg/sqrt(h).
+            let n = room / NOISE_SDS / 60.0 / self.sample_rate_hz.sqrt();
+            fits.push(format!("Gaussian white noise of at most {n:.3e} deg/sqrt(h)"));
+        }
+        if NOISE_SDS * self.shock_sd_dph > room {
+            let shock = room / NOISE_SDS;
+            fits.push(format!("shocks of sd at most {shock:.3} deg/h"));
+        }
+        if fits.is_empty() {
+            s + "; the terms are within it, so the input (a drift, a disturbance) went beyond"
+        } else {
+            s + &format!("; {} fit at this sample rate", fits.join(", "))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_coarse_quantisation_is_named_with_the_largest_q_that_fits() {
+        let mut twin = TwinConfig::default();
+        twin.noise.quantization_arcsec = 0.5;
+        let b = AdcBudget::of(&twin);
+        // 0.5 arcsec sqrt(12) read every millisecond: 1732 deg/h per step.
+        assert!((b.quant_step_dph - 1732.05).abs() < 0.01, "{b:?}");
+        assert!((b.full_scale_dph - 50.0).abs() < 1e-6, "{b:?}");
+        let room = 50.0 - b.steady_dph;
+        let q = room / 1000.0 / 12f64.sqrt();
+        let text = b.explain();
+        assert!(
+            text.contains(&format!("a quantisation Q of at most {q:.3e} arcsec")),
+            "{text}"
+        );
+        assert!(!text.contains("white noise of at most"), "{text}");
+    }
+
+    #[test]
+    fn a_noisy_gyro_is_named_with_the_largest_arw_that_fits() {
+        let mut twin = TwinConfig::default();
+        // 0.01 deg/sqrt(h) is 0.6 deg/h/sqrt(Hz): 19 deg/h in one sample at 1 kHz.
+        twin.noise = nf_model::noise::NoiseModel {
+            arw_deg_rth: 0.01,
+            ..twin.noise
+        };
+        let b = AdcBudget::of(&twin);
+        assert!((b.white_sd_dph - 0.6 * 1000f64.sqrt()).abs() < 1e-9, "{b:?}");
+        let text = b.explain();
+        assert!(text.contains("Gaussian white noise of at most"), "{text}");
+        assert!(!text.contains("quantisation Q"), "{text}");
+    }
+
+    #[test]
+    fn large_shocks_are_named_with_the_largest_size_that_fits() {
+        let mut twin = TwinConfig::default();
+        twin.shocks = nf_twin::Shocks {
+            per_hour: 3000.0,
+            size_dph: 80.0,
+            duration_s: 1.0,
+        };
+        let text = AdcBudget::of(&twin).explain();
+        assert!(
+            text.contains("shocks of sd at most") && !text.contains("white noise of at most"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn a_quiet_gyro_leaves_the_blame_on_the_input() {
+        let b = AdcBudget::of(&TwinConfig::default());
+        let text = b.explain();
+        assert!(
+            text.ends_with("went beyond") && !text.contains("quantisation"),
+            "{text}"
+        );
+    }
+}
