@@ -95,6 +95,7 @@ fn fit_and_diagnose_agree_and_find_north_at_every_tilt_and_latitude() {
             let rec = Recording::parse(&variant).unwrap_or_else(|e| panic!("{case}: {e}"));
             let at = format!("tilt {tilt} deg, lat {lat}: {case}");
             let fit = analyse(&rec, &Options::default()).unwrap_or_else(|e| panic!("{at}: {e}"));
+            assert_eq!(fit.tilt_warning, None, "{at}");
             let diag = diagnose(&rec, &diagnose::Options::default()).unwrap_or_else(|e| panic!("{case}: {e}"));
             let at = format!("tilt {tilt} deg, lat {lat}: {case}");
             // Without findings diagnose's fit is nf fit's under the noise: the same tilt path.
@@ -117,4 +118,74 @@ fn fit_and_diagnose_agree_and_find_north_at_every_tilt_and_latitude() {
         }
     }
     println!("worst |error| / sigma {worst_z:.2}");
+}
+
+/// The recording with each `tilt_y_deg` negated, or the two tilt columns' names swapped.
+fn mirrored(text: &str, swap: bool) -> String {
+    let mut y_at = None;
+    let mut out = String::new();
+    for line in text.lines() {
+        if line.starts_with('#') {
+            out += line;
+        } else if y_at.is_none() {
+            let cols: Vec<&str> = line.split(',').collect();
+            y_at = cols.iter().position(|c| *c == "tilt_y_deg");
+            if swap {
+                out += &line
+                    .replace("tilt_x_deg", "TMP")
+                    .replace("tilt_y_deg", "tilt_x_deg")
+                    .replace("TMP", "tilt_y_deg");
+            } else {
+                out += line;
+            }
+        } else {
+            let cells: Vec<String> = line
+                .split(',')
+                .enumerate()
+                .map(|(i, v)| match v.parse::<f64>() {
+                    Ok(y) if Some(i) == y_at && !swap => format!("{}", -y),
+                    _ => v.to_string(),
+                })
+                .collect();
+            out += &cells.join(",");
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// Readings that turn round the tilt circle the mirror way (Y's sign flipped, X and Y
+/// swapped) are said to, and the tilt comes from X alone: with Y flipped, the azimuth of the
+/// recording without its Y column, near the truth.
+#[test]
+fn an_inclinometer_turning_the_wrong_way_is_named_and_x_alone_is_used() {
+    for (k, (tilt, lat)) in [(1.0, 43.8), (3.0, 60.0), (0.05, 20.0)].into_iter().enumerate() {
+        let (text, truth) = recording(tilt, lat, 10 + k as u64);
+        let at = format!("tilt {tilt} deg, lat {lat}");
+        let x_alone = analyse(
+            &Recording::parse(&edit(&text, Some("tilt_y_deg"), None)).unwrap(),
+            &Options::default(),
+        )
+        .unwrap();
+        let flipped = analyse(&Recording::parse(&mirrored(&text, false)).unwrap(), &Options::default()).unwrap();
+        let warning = flipped
+            .tilt_warning
+            .unwrap_or_else(|| panic!("{at}: flipped Y not named"));
+        assert!(warning.contains("the wrong way"), "{at}: {warning}");
+        assert!((flipped.gls.psi_deg - x_alone.gls.psi_deg).abs() < 1e-9, "{at}");
+        let z = wrap_180(flipped.gls.psi_deg - truth) / flipped.gls.sigma_psi_deg;
+        assert!(z.abs() < 4.5, "{at}: error {z:.1} sigma");
+        let swapped = analyse(&Recording::parse(&mirrored(&text, true)).unwrap(), &Options::default()).unwrap();
+        assert!(swapped.tilt_warning.is_some(), "{at}: swapped axes not named");
+        let diag = diagnose(
+            &Recording::parse(&mirrored(&text, false)).unwrap(),
+            &diagnose::Options::default(),
+        )
+        .unwrap();
+        assert!(
+            diag.notes.iter().any(|n| n.contains("the wrong way")),
+            "{at}: {:?}",
+            diag.notes
+        );
+    }
 }

@@ -87,6 +87,8 @@ pub struct Analysis {
     pub shaft: Option<ShaftTilt<f64>>,
     /// Positions without an inclinometer reading, corrected from the tilt circle.
     pub tilt_bridged: usize,
+    /// Why some inclinometer readings were not used, when they were not.
+    pub tilt_warning: Option<String>,
     /// `(gamma, t, rate, fitted, residual)` per position.
     pub points: Vec<[f64; 5]>,
     pub amplitude_predicted_dph: f64,
@@ -113,7 +115,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         wild,
         out,
     } = plain_holding_out(rec, method, cfg)?;
-    let (corrections, shaft, bridged) = (tilt.corrections, tilt.shaft, tilt.bridged);
+    let (corrections, shaft, bridged, tilt_warning) = (tilt.corrections, tilt.shaft, tilt.bridged, tilt.warning);
     let used = Recording {
         rows: out_of(&rec.rows, &out),
         ..rec.clone()
@@ -152,6 +154,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         corrections,
         shaft,
         tilt_bridged: bridged,
+        tilt_warning,
         points,
         sigma_gyro_dph,
         gls,

@@ -35,6 +35,7 @@ mod stats;
 mod sweep_run;
 pub mod textfile;
 pub mod tilt;
+mod tilt_sense;
 pub mod twin_check;
 mod wander_test;
 

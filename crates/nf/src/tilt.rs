@@ -7,6 +7,7 @@
 use crate::analysis::{TiltMethod, exact_tilt_correction};
 use crate::linfit;
 use crate::recording::Recording;
+use crate::tilt_sense::{self, AxisReading};
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
 use nf_model::level::ShaftTilt;
@@ -31,7 +32,12 @@ pub struct Tilt {
     pub bridged: usize,
     /// Iterations of the exact correction.
     pub iterations: u32,
+    /// Why some readings were not used, when they were not.
+    pub warning: Option<String>,
 }
+
+/// What the tilt circle is drawn from when X and Y turn round it the mirror way.
+pub const WRONG_WAY: &str = "the inclinometer's X and Y turn round the tilt circle the wrong way for the format's axes (Y 90 deg counter-clockwise from X, the encoder angle growing counter-clockwise): Y read with the opposite sign, X and Y swapped, or an encoder counting the other way; the tilt is taken from X alone";
 
 /// The method a recording allows: exact with readings of either axis on three positions or
 /// more, else none.
@@ -68,8 +74,13 @@ fn readings(rec: &Recording) -> Vec<Reading> {
 /// The tilt circle from the readings there are, by the model of `nf_model::level::fit_tilt`:
 /// `sin x = cx + a cos(gamma) + b sin(gamma)`, `sin y = cy - a sin(gamma) + b cos(gamma)`, a
 /// mounting offset for each axis read (NaN for an axis never read).
-fn circle(rec: &Recording) -> Result<ShaftTilt<f64>, String> {
-    let r = readings(rec);
+fn circle(rec: &Recording) -> Result<(ShaftTilt<f64>, Option<String>), String> {
+    let mut r = readings(rec);
+    let mut warning = None;
+    if tilt_sense::turns_the_wrong_way(&sensed(&r)) {
+        r.retain(|r| !r.y);
+        warning = Some(WRONG_WAY.to_string());
+    }
     if r.len() < 3 {
         return Err(format!(
             "the exact tilt correction needs inclinometer readings (tilt_x_deg, tilt_y_deg or both) on three positions or more, the recording has {}",
@@ -102,13 +113,24 @@ fn circle(rec: &Recording) -> Result<ShaftTilt<f64>, String> {
     } else {
         0.0
     };
-    Ok(ShaftTilt::from_circle(
+    let shaft = ShaftTilt::from_circle(
         offsets(has_x.then_some(0)),
         offsets(has_y.then_some(usize::from(has_x))),
         a,
         b,
         rms_deg,
-    ))
+    );
+    Ok((shaft, warning))
+}
+
+fn sensed(r: &[Reading]) -> Vec<AxisReading> {
+    r.iter()
+        .map(|r| AxisReading {
+            gamma_deg: r.gamma_deg,
+            sin_elev: r.deg.to_radians().sin(),
+            y: r.y,
+        })
+        .collect()
 }
 
 /// The corrections by `method`. `fit` gives the azimuth (deg) and amplitude (deg/h) of the
@@ -127,6 +149,7 @@ pub fn correct(
         shaft: None,
         bridged: 0,
         iterations: 0,
+        warning: None,
     };
     match method {
         TiltMethod::None => Ok(none),
@@ -136,17 +159,16 @@ pub fn correct(
                 corrections: x.iter().map(|&x| vertical_earth_rate_dph(lat, x)).collect(),
                 bridged,
                 // Measured, not used: so the output can say how large a tilt first order took.
-                shaft: circle(rec).ok(),
+                shaft: circle(rec).ok().map(|c| c.0),
                 ..none
             })
         }
         TiltMethod::Exact => {
-            let t = circle(rec)?;
-            let bridged = rec
-                .rows
-                .iter()
-                .filter(|r| r.tilt_x_deg.is_none() && r.tilt_y_deg.is_none())
-                .count();
+            let (t, warning) = circle(rec)?;
+            let read =
+                |r: &crate::recording::Row| r.tilt_x_deg.is_some() || (warning.is_none() && r.tilt_y_deg.is_some());
+            let bridged = rec.rows.iter().filter(|r| !read(r)).count();
+            let none = Tilt { warning, ..none };
             // Start from first order (the circle's X at each position), then solve the exact
             // model with the fitted azimuth and scale.
             let corr: Vec<f64> = gammas
@@ -173,7 +195,7 @@ pub fn correct(
                         shaft: Some(t),
                         bridged,
                         iterations: k,
-                        ..none
+                        ..none.clone()
                     });
                 }
                 if closest.as_ref().is_none_or(|(d, _)| g[0].abs() < *d) {

@@ -233,6 +233,9 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             "tilt           not corrected (no inclinometer columns, or --tilt none)"
         )?,
     }
+    if let Some(w) = &an.tilt_warning {
+        writeln!(out, "               WARNING: {w}")?;
+    }
     if an.tilt_bridged > 0 {
         writeln!(
             out,

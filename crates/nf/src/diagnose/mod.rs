@@ -150,6 +150,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
             .ok_or("the positions do not determine A cos + B sin + C")?;
         Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
     })?;
+    let tilt_warning = tilt.as_ref().and_then(|t| t.warning.clone());
     let y: Vec<f64> = match &tilt {
         Some(t) => d.rate.iter().zip(&t.corrections).map(|(r, c)| r - c).collect(),
         None => d.rate.clone(),
@@ -264,7 +265,10 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         .collect();
     Ok(Diagnosis {
         alpha: opt.alpha,
-        notes: notes::notes(&findings, &sel.rivals, &models, &d),
+        notes: tilt_warning
+            .into_iter()
+            .chain(notes::notes(&findings, &sel.rivals, &models, &d))
+            .collect(),
         noise_model: noise.model,
         cautious_model: noise.cautious_model,
         drift_model: noise.drift_model,

@@ -18,6 +18,8 @@ pub struct ShaftTilt {
     pub location: String,
     /// Rate to subtract from each position, deg/h.
     pub corrections: Vec<f64>,
+    /// Why some inclinometer readings were not used, when they were not.
+    pub warning: Option<String>,
 }
 
 impl ShaftTilt {
@@ -69,6 +71,7 @@ impl ShaftTilt {
                 t.bridged
             ),
             corrections: t.corrections,
+            warning: t.warning,
         }))
     }
 }

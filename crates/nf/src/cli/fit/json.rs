@@ -71,6 +71,8 @@ pub(super) struct FitJson {
     tilt_bridged_positions: usize,
     /// The tilt correction applied: none, first-order or exact.
     tilt_correction: &'static str,
+    /// Why some inclinometer readings were not used; null when all were.
+    tilt_warning: Option<String>,
 }
 
 /// The gyro noise model, given or estimated, and how well it fits.
@@ -190,6 +192,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
         sigma_gyro_dph: an.sigma_gyro_dph,
         surveying_azimuth_deg: unresolved.is_none().then_some(surveying_azimuth_deg(g.psi_deg) + 0.0),
         tilt_bridged_positions: an.tilt_bridged,
+        tilt_warning: an.tilt_warning.clone(),
         tilt_correction: an.method.name(),
         not_resolved_because: unresolved,
     }
