@@ -3,6 +3,8 @@
 //! readings there are (both columns, or either alone: over a turn one axis draws the whole
 //! circle), iterated with the fitted azimuth and scale to convergence; first order per position
 //! from `tilt_x_deg` on request. Positions without a reading are bridged by the circle.
+//! Readings that turn round the circle the mirror way (`crate::tilt_sense`) are said to, and
+//! the circle is drawn from X alone.
 
 use crate::analysis::{TiltMethod, exact_tilt_correction};
 use crate::linfit;
@@ -37,7 +39,7 @@ pub struct Tilt {
 }
 
 /// What the tilt circle is drawn from when X and Y turn round it the mirror way.
-pub const WRONG_WAY: &str = "the inclinometer's X and Y turn round the tilt circle the wrong way for the format's axes (Y 90 deg counter-clockwise from X, the encoder angle growing counter-clockwise): Y read with the opposite sign, X and Y swapped, or an encoder counting the other way; the tilt is taken from X alone";
+const WRONG_WAY: &str = "the inclinometer's X and Y turn round the tilt circle the wrong way for the format's axes (Y 90 deg counter-clockwise from X, the encoder angle growing counter-clockwise): Y read with the opposite sign, X and Y swapped, or an encoder counting the other way; the tilt is taken from X alone";
 
 /// The method a recording allows: exact with readings of either axis on three positions or
 /// more, else none.
@@ -123,6 +125,7 @@ fn circle(rec: &Recording) -> Result<(ShaftTilt<f64>, Option<String>), String> {
     Ok((shaft, warning))
 }
 
+/// The readings as the sense test takes them.
 fn sensed(r: &[Reading]) -> Vec<AxisReading> {
     r.iter()
         .map(|r| AxisReading {

@@ -138,11 +138,13 @@ mod tests {
 
     #[test]
     fn large_shocks_are_named_with_the_largest_size_that_fits() {
-        let mut twin = TwinConfig::default();
-        twin.shocks = nf_twin::Shocks {
-            per_hour: 3000.0,
-            size_dph: 80.0,
-            duration_s: 1.0,
+        let twin = TwinConfig {
+            shocks: nf_twin::Shocks {
+                per_hour: 3000.0,
+                size_dph: 80.0,
+                duration_s: 1.0,
+            },
+            ..TwinConfig::default()
         };
         let text = AdcBudget::of(&twin).explain();
         assert!(
