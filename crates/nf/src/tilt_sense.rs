@@ -69,7 +69,7 @@ fn p_against_free(rss: f64, free_rss: f64, free_dof: usize) -> f64 {
 
 /// The p-values of the proper circle and of its mirror image, when both axes are read on
 /// four positions or more.
-pub fn senses(r: &[AxisReading]) -> Option<(f64, f64)> {
+fn senses(r: &[AxisReading]) -> Option<(f64, f64)> {
     let count = |y: bool| r.iter().filter(|r| r.y == y).count();
     if count(false) < 4 || count(true) < 4 {
         return None;
