@@ -148,6 +148,16 @@ pub fn search(
     }
     if plan.fastest.is_some() {
         plan.floor = None;
+    } else if let Some(coarse) = plan.floor.clone()
+        && let Some(order) = orders.iter().find(|o| o.name() == coarse.order)
+    {
+        // Between the grid's points, as for the fastest run: every number of positions at
+        // the floor's dwell and the dwells around it.
+        let every: Vec<usize> = (4..=*space.positions.iter().max().unwrap_or(&4)).collect();
+        let mut none = None;
+        for dwell in std::iter::once(coarse.dwell_s).chain(finer_dwells(&space.dwells_s, coarse.dwell_s)) {
+            scan.dwell(order, dwell, &every, &mut none, &mut plan);
+        }
     }
     plan
 }
@@ -315,6 +325,54 @@ mod tests {
         let fastest = pairs.fastest.expect("opposite pairs reach 18\"");
         println!("sequential floor {floor:?}\nopposite pairs {fastest:?}");
         assert!(fastest.time_s < 250.0, "{fastest:?}");
+    }
+
+    /// Out of reach, the floor is the least sigma between the grid's points too: no run of
+    /// that order at the dwells around it does better by more than 0.1 %.
+    #[test]
+    fn the_floor_is_found_between_its_grid_points() {
+        let (white, b) = paper();
+        // A walk: sigma has a sharp least run length, which the coarse grid misses.
+        let m = NoiseModel {
+            rrw_dph_rth: 0.05,
+            ..white
+        };
+        let tm = fast();
+        let sequential = [Order::Sequential];
+        let space = Space {
+            max_time_s: 1800.0,
+            ..Space::default()
+        };
+        let floor = search(&m, &b, &tm, &sequential, &space, 18.0, 5.0).floor.unwrap();
+        let mut coarse_floor = f64::INFINITY;
+        for &dwell in &space.dwells_s {
+            let tm = Timing { dwell_s: dwell, ..tm };
+            for &n in &space.positions {
+                let s = Schedule::new(&sequential[0], n, n / 2, &tm);
+                if 5.0 + s.duration_s <= space.max_time_s {
+                    coarse_floor = coarse_floor.min(total_arcsec(&m, &s, &b).unwrap());
+                }
+            }
+        }
+        let mut fine_floor = f64::INFINITY;
+        for k in -12..=12 {
+            let tm = Timing {
+                dwell_s: floor.dwell_s * 1.03f64.powi(k),
+                ..tm
+            };
+            for n in (floor.n.max(10) - 6)..=(floor.n + 6) {
+                let s = Schedule::new(&sequential[0], n, n / 2, &tm);
+                if 5.0 + s.duration_s <= space.max_time_s {
+                    fine_floor = fine_floor.min(total_arcsec(&m, &s, &b).unwrap());
+                }
+            }
+        }
+        println!("floor {floor:?}; coarse grid {coarse_floor:.3}\", fine grid {fine_floor:.3}\"");
+        assert!(floor.sigma_arcsec <= coarse_floor, "{floor:?} against {coarse_floor}");
+        assert!(
+            floor.sigma_arcsec <= 1.001 * fine_floor,
+            "{floor:?} against {fine_floor}"
+        );
     }
 
     #[test]
