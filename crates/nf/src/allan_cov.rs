@@ -40,11 +40,35 @@ impl<'a> PointCov<'a> {
         let e: Rc<Vec<f64>> = Rc::new(
             self.points
                 .iter()
-                .map(|p| self.sampling.expected_avar(&unit, p.m))
+                .map(|p| match term {
+                    Term::Ramp => ramp_avar(self.sampling, p.m),
+                    _ => self.sampling.expected_avar(&unit, p.m),
+                })
                 .collect(),
         );
         self.expected.borrow_mut().push((term, e.clone()));
         e
+    }
+
+    /// The variance under `model` of the mean of every difference of consecutive cluster means
+    /// a point's estimate averages (what a ramp's cross term scales). The sum telescopes to the
+    /// last `m` cluster means less the first: `m / M` times the difference of two means of
+    /// `m` values `M` values apart, `M` the differences in the longest segment (each mean
+    /// taken as a plain window rather than the sum's triangle).
+    pub fn mean_difference_var(&self, model: &NoiseModel) -> Vec<f64> {
+        let longest = self.lens.iter().copied().max().unwrap_or(0);
+        self.points
+            .iter()
+            .map(|p| {
+                let terms = (longest + 1).saturating_sub(2 * p.m).max(p.m) as f64;
+                let apart = Sampling {
+                    step_s: terms * self.sampling.step_s,
+                    window_s: p.m as f64 * self.sampling.step_s,
+                };
+                let share = p.m as f64 / terms;
+                share * share * 2.0 * apart.expected_avar(model, 1)
+            })
+            .collect()
     }
 
     /// The expected Allan variance under `model` at every point.
@@ -95,6 +119,13 @@ impl<'a> PointCov<'a> {
         self.units.borrow_mut().push((term, u.clone()));
         u
     }
+}
+
+/// The Allan variance a rate ramp of 1 deg/h per hour gives at factor `m`: consecutive means
+/// of `m` values lie `m` steps apart, so their difference is the ramp times that time.
+fn ramp_avar(sampling: Sampling, m: usize) -> f64 {
+    let dt_h = m as f64 * sampling.step_s / 3600.0;
+    0.5 * dt_h * dt_h
 }
 
 #[cfg(test)]

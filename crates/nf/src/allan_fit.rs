@@ -5,8 +5,9 @@
 //! fitted model, iterated: its diagonal is each estimate's `2 sigma^4 / edf`, and since every
 //! octave reuses the same data the points are correlated (0.5 between neighbours for white
 //! noise, 0.9 for random walk), so the fit is generalised least squares: its chi-square, the
-//! coefficients' covariance and the F tests then mean what they say. Quantisation and a
-//! Gauss-Markov term are kept only where an F test against the fit without them finds them.
+//! coefficients' covariance and the F tests then mean what they say. Quantisation, a rate
+//! ramp and a Gauss-Markov term are kept only where an F test against the fit without them
+//! finds them.
 
 use crate::allan::{MIN_POINTS, Point, oavar, octaves};
 use crate::allan_cov::PointCov;
@@ -16,7 +17,7 @@ use crate::linfit;
 use crate::stats::{chi2_sf, f_sf};
 use nf_model::noise::NoiseModel;
 
-/// False-alarm rate of the F tests for quantisation and a Gauss-Markov term.
+/// False-alarm rate of the F tests for quantisation, a ramp and a Gauss-Markov term.
 pub const ALPHA: f64 = 0.01;
 /// Below this p-value of its chi-square the model does not describe the curve (a twin log,
 /// which the model does describe, comes under 1e-3 in about one of a hundred: the weights are
@@ -40,13 +41,20 @@ pub enum Term {
     BiasInstability,
     Rrw,
     Quantization,
-    GaussMarkov { tau_s: f64 },
+    GaussMarkov {
+        tau_s: f64,
+    },
+    /// Rate ramp R, deg/h per hour: a trend (a slow thermal one, say), not noise, so not a
+    /// term of `NoiseModel`; fitted so that it is not taken for random walk.
+    Ramp,
 }
 
 impl Term {
-    /// Sets this term's size (N, B, K, Q or the Gauss-Markov sigma) in `m`.
+    /// Sets this term's size (N, B, K, Q or the Gauss-Markov sigma) in `m`; a ramp is no noise
+    /// and leaves `m` as it is.
     pub fn set(self, m: &mut NoiseModel, size: f64) {
         match self {
+            Term::Ramp => {}
             Term::Arw => m.arw_deg_rth = size,
             Term::BiasInstability => m.bias_instability_dph = size,
             Term::Rrw => m.rrw_dph_rth = size,
@@ -123,6 +131,8 @@ pub struct AllanFit {
     pub terms: Vec<(Term, Param)>,
     /// Quantisation's test (contiguous series only); `None` when there are too few points.
     pub q_test: Option<FTest>,
+    /// The rate ramp's test; `None` when there are too few points.
+    pub ramp_test: Option<FTest>,
     /// The best Gauss-Markov term's correlation time and test; `None` when too few points.
     pub gm_test: Option<(f64, FTest)>,
     pub chi2: f64,
@@ -148,6 +158,11 @@ impl AllanFit {
     pub fn arw_beyond_gm(&self) -> Option<f64> {
         let (s, tau_s) = self.gm()?;
         Some((self.model.arw_deg_rth.powi(2) + 2.0 * s.value.powi(2) * tau_s / 3600.0).sqrt())
+    }
+
+    /// The rate ramp R (deg/h per hour), when kept.
+    pub fn ramp(&self) -> Option<Param> {
+        self.param(Term::Ramp)
     }
 
     /// The Gauss-Markov sigma and correlation time, when kept.
@@ -245,12 +260,18 @@ impl Problem<'_> {
     }
 
     /// Standard deviation of each coefficient: from the fit on the support, or for a term
-    /// fitted at zero, from the fit with it added.
+    /// fitted at zero, from the fit with it added. A ramp's from the fit with every term: it
+    /// trades with the walk, and with the walk fitted at zero the support's fit would not
+    /// show it.
     fn sds(&self, sol: &Solution) -> Vec<f64> {
         let support = sol.support();
         (0..sol.terms.len())
             .map(|i| {
-                let mut idx = support.clone();
+                let mut idx = if sol.terms[i] == Term::Ramp {
+                    (0..sol.terms.len()).collect()
+                } else {
+                    support.clone()
+                };
                 if !idx.contains(&i) {
                     idx.push(i);
                 }
@@ -275,10 +296,10 @@ impl Problem<'_> {
         })
     }
 
-    /// Quantisation added to `plain` if the F test finds it.
-    fn with_quantization(&self, plain: Solution) -> (Solution, Option<FTest>) {
+    /// `extra` (quantisation, a ramp) added to `plain` if the F test finds it.
+    fn with(&self, plain: Solution, extra: Term) -> (Solution, Option<FTest>) {
         let mut terms = plain.terms.clone();
-        terms.push(Term::Quantization);
+        terms.push(extra);
         let rich = self.nnls(&terms);
         let test = self.f_test(&plain, &rich, 1);
         match test {
@@ -350,6 +371,7 @@ pub fn fit(points: &[Point], sampling: Sampling, lens: &[usize]) -> Result<Allan
     let Pass {
         sol,
         q_test,
+        ramp_test,
         gm_test,
         sds,
         model,
@@ -366,6 +388,7 @@ pub fn fit(points: &[Point], sampling: Sampling, lens: &[usize]) -> Result<Allan
         model,
         terms,
         q_test,
+        ramp_test,
         gm_test,
         chi2: sol.chi2,
         dof,
@@ -378,6 +401,7 @@ pub fn fit(points: &[Point], sampling: Sampling, lens: &[usize]) -> Result<Allan
 struct Pass {
     sol: Solution,
     q_test: Option<FTest>,
+    ramp_test: Option<FTest>,
     gm_test: Option<(f64, FTest)>,
     sds: Vec<f64>,
     model: NoiseModel,
@@ -402,24 +426,32 @@ fn passes(points: &[Point], sampling: Sampling, cov: &PointCov, model_error: f64
     for pass in 0..ITERATIONS {
         let plain = problem.nnls(&base);
         let (plain, q_test) = if sampling.is_contiguous() {
-            problem.with_quantization(plain)
+            problem.with(plain, Term::Quantization)
         } else {
             (plain, None)
         };
+        let (plain, ramp_test) = problem.with(plain, Term::Ramp);
         let (sol, gm_test) = problem.with_gm(plain);
         let sds = problem.sds(&sol);
         let model = sol.model();
         let free = sol.support().len() + usize::from(model.gm_sigma_dph > 0.0);
+        let ramp = sol
+            .terms
+            .iter()
+            .zip(&sol.coef)
+            .find(|(t, _)| **t == Term::Ramp)
+            .map_or(0.0, |(_, c)| *c);
         last = Some(Pass {
             dof: points.len().saturating_sub(free),
             sol,
             q_test,
+            ramp_test,
             gm_test,
             sds,
             model,
         });
         if pass + 1 < ITERATIONS {
-            problem.white = whitening(points, cov, &model, model_error)?;
+            problem.white = whitening(points, cov, &model, ramp, model_error)?;
         }
     }
     Ok(last.expect("at least one pass"))
@@ -427,8 +459,16 @@ fn passes(points: &[Point], sampling: Sampling, cov: &PointCov, model_error: f64
 
 /// The points' covariance under `model`, factored. A point whose variance the model puts
 /// below `VAR_FLOOR` of the measured value is scaled up to it, correlations kept; each gets
-/// `(model_error avar)^2` more, independently.
-fn whitening(points: &[Point], cov: &PointCov, model: &NoiseModel, model_error: f64) -> Result<Whitening, String> {
+/// `(model_error avar)^2` more, independently. A ramp (`ramp`, R^2) adds to a point's estimate
+/// `R dt` times the mean of the noise's differences over the record: variance `2 a` times
+/// that mean's, `a` the ramp's own Allan variance there.
+fn whitening(
+    points: &[Point],
+    cov: &PointCov,
+    model: &NoiseModel,
+    ramp: f64,
+    model_error: f64,
+) -> Result<Whitening, String> {
     let n = points.len();
     let expected = cov.expected_of(model);
     let scale: Vec<f64> = points
@@ -448,8 +488,14 @@ fn whitening(points: &[Point], cov: &PointCov, model: &NoiseModel, model_error: 
             sigma[i * n + j] *= scale[i] * scale[j];
         }
     }
+    let ramp_unit = cov.expected(Term::Ramp);
+    let cross = if ramp > 0.0 {
+        cov.mean_difference_var(model)
+    } else {
+        vec![0.0; n]
+    };
     for (i, p) in points.iter().enumerate() {
-        sigma[i * n + i] += (model_error * p.avar).powi(2);
+        sigma[i * n + i] += (model_error * p.avar).powi(2) + 2.0 * ramp * ramp_unit[i] * cross[i];
     }
     if sigma.iter().any(|v| !v.is_finite()) || (0..n).any(|i| sigma[i * n + i] <= 0.0) {
         return Err("the fitted noise model gives the Allan points no usable covariance".into());

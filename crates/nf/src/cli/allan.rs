@@ -127,11 +127,12 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
 }
 
 /// The terms as (term, label, unit).
-const TERMS: [(Term, &str, &str); 4] = [
+const TERMS: [(Term, &str, &str); 5] = [
     (Term::Arw, "N (angle random walk)", "deg/sqrt(h)"),
     (Term::BiasInstability, "B (bias instability)", "deg/h"),
     (Term::Rrw, "K (rate random walk)", "deg/h/sqrt(h)"),
     (Term::Quantization, "Q (quantisation)", "arcsec"),
+    (Term::Ramp, "R (rate ramp, a trend)", "deg/h/h"),
 ];
 
 fn describe_source(file: &str, src: &Source) -> String {
@@ -205,9 +206,11 @@ impl Report<'_> {
                 ),
                 Some(p) if p.value > 0.0 => format!("{} +- {} {unit}", g(p.value), g(p.sigma)),
                 Some(p) => format!("0 (1-sigma bound {} {unit})", g(p.sigma)),
-                None => match fit.q_test {
-                    Some(t) => format!("not significant (F test p = {}, kept below {ALPHA})", g(t.p_value)),
-                    None => "not fitted".into(),
+                None => match (term, fit.q_test, fit.ramp_test) {
+                    (Term::Quantization, Some(t), _) | (Term::Ramp, _, Some(t)) => {
+                        format!("not significant (F test p = {}, kept below {ALPHA})", g(t.p_value))
+                    }
+                    _ => "not fitted".into(),
                 },
             };
             out += &format!("{label:<26} {line}\n");
@@ -241,11 +244,13 @@ impl Report<'_> {
     fn panel(&self) -> Panel {
         let (src, fit) = (self.src, self.fit);
         let taus = curve_taus(self.points, src.sampling, 200);
-        let line = |name: String, m: &NoiseModel| Series {
+        // A ramp is no noise term of the model: its Allan variance (R tau)^2 / 2 is added here.
+        let ramp = |r: f64, t: f64| 0.5 * (r * t / 3600.0).powi(2);
+        let line = |name: String, m: &NoiseModel, r: f64| Series {
             name,
             points: taus
                 .iter()
-                .map(|&t| (t, src.sampling.expected_at(m, t).max(0.0).sqrt()))
+                .map(|&t| (t, (src.sampling.expected_at(m, t) + ramp(r, t)).max(0.0).sqrt()))
                 .collect(),
             style: Style::Line,
         };
@@ -263,20 +268,22 @@ impl Report<'_> {
                     .collect(),
                 style: Style::Bars,
             },
-            line("fit: all terms".into(), &fit.model),
+            line("fit: all terms".into(), &fit.model, fit.ramp().map_or(0.0, |r| r.value)),
         ];
         for (term, p) in &fit.terms {
             if p.value > 0.0 {
                 let mut m = NoiseModel::WHITE_NONE;
                 term.set(&mut m, p.value);
+                let r = if *term == Term::Ramp { p.value } else { 0.0 };
                 let name = match term {
+                    Term::Ramp => "R: rate ramp".to_string(),
                     Term::Arw => "N: white".to_string(),
                     Term::BiasInstability => "B: flicker".into(),
                     Term::Rrw => "K: random walk".into(),
                     Term::Quantization => "Q: quantisation".into(),
                     Term::GaussMarkov { tau_s } => format!("Gauss-Markov, tau {} s", g(*tau_s)),
                 };
-                series.push(line(name, &m));
+                series.push(line(name, &m, r));
             }
         }
         Panel {

@@ -57,6 +57,11 @@ pub(super) struct AllanJson<'a> {
     quantization_arcsec: f64,
     /// 1-sigma uncertainty of Q, arcsec; null when the term was dropped.
     quantization_arcsec_sigma: Option<f64>,
+    /// Rate ramp R, deg/h per hour: a trend, not noise (it is no term of the noise model
+    /// handed on); 0 when the F test drops it.
+    rate_ramp_dph_per_h: f64,
+    /// 1-sigma uncertainty of R; null when the term was dropped.
+    rate_ramp_dph_per_h_sigma: Option<f64>,
     /// Rate random walk K, deg/h/sqrt(h).
     rrw_dph_rth: f64,
     /// 1-sigma uncertainty of K, deg/h/sqrt(h); null when the term was dropped.
@@ -140,6 +145,8 @@ struct Tests {
     gauss_markov: Option<GmTest>,
     /// Quantisation's test; null when there were too few points or the series has gaps.
     quantization: Option<Test>,
+    /// The rate ramp's test; null when there were too few points.
+    rate_ramp: Option<Test>,
 }
 
 /// An F test.
@@ -187,6 +194,7 @@ impl<'a> Report<'a> {
             term(Term::Rrw),
             term(Term::Quantization),
         );
+        let ramp = term(Term::Ramp);
         let gm = fit.gm();
         let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
         AllanJson {
@@ -223,6 +231,8 @@ impl<'a> Report<'a> {
             gm_tau_s: gm.map(|(_, tau)| tau),
             quantization_arcsec: q.0,
             quantization_arcsec_sigma: q.1,
+            rate_ramp_dph_per_h: ramp.0,
+            rate_ramp_dph_per_h_sigma: ramp.1,
             rrw_dph_rth: rrw.0,
             rrw_dph_rth_sigma: rrw.1,
             rrw_z: z(Term::Rrw),
@@ -235,6 +245,7 @@ impl<'a> Report<'a> {
                     tau_s,
                 }),
                 quantization: fit.q_test.map(Test::from),
+                rate_ramp: fit.ramp_test.map(Test::from),
             },
         }
     }
