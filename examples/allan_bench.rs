@@ -93,7 +93,8 @@ fn main() {
         }
         let q = fits.iter().filter(|f| f.model.quantization_arcsec > 0.0).count();
         let gm = fits.iter().filter(|f| f.gm().is_some()).count();
+        let ramp = fits.iter().filter(|f| f.ramp().is_some()).count();
         let chi = fits.iter().map(|f| f.chi2 / f.dof as f64).sum::<f64>() / k;
-        println!("{line} | Q kept {q}, GM kept {gm}, mean chi2/dof {chi:.2}");
+        println!("{line} | Q kept {q}, GM kept {gm}, ramp kept {ramp}, mean chi2/dof {chi:.2}");
     }
 }
