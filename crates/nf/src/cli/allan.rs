@@ -97,6 +97,12 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
         if fit.model_error > 0.0 {
             comment += &format!(" with a relative model error of {:.1} %", 100.0 * fit.model_error);
         }
+        if let Some(r) = fit.ramp() {
+            comment += &format!(
+                "; a rate ramp of {} deg/h/h was fitted too, a trend, not noise, so not here",
+                g(r.value)
+            );
+        }
         std::fs::write(path, noise_file::write(&fit.model, &comment))
             .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
     }
