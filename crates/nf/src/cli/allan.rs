@@ -108,12 +108,15 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     }
     if let Some(report) = &a.report {
         let m = &fit.model;
-        let headline = format!(
+        let mut headline = format!(
             "N {} deg/sqrt(h), B {} deg/h, K {} deg/h/sqrt(h)",
             g(m.arw_deg_rth),
             g(m.bias_instability_dph),
             g(m.rrw_dph_rth)
         );
+        if let Some(r) = fit.ramp() {
+            headline += &format!(", a ramp R {} deg/h/h", g(r.value));
+        }
         let page = Page {
             title: &format!("nf allan: {}", a.file),
             headline: &headline,
