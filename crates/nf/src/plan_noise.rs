@@ -152,11 +152,17 @@ pub fn search(
         && let Some(order) = orders.iter().find(|o| o.name() == coarse.order)
     {
         // Between the grid's points, as for the fastest run: every number of positions at
-        // the floor's dwell and the dwells around it.
+        // the floor's dwell and the dwells around it. A floor just above the target can have
+        // a run below it there.
         let every: Vec<usize> = (4..=*space.positions.iter().max().unwrap_or(&4)).collect();
-        let mut none = None;
+        let mut found = None;
         for dwell in std::iter::once(coarse.dwell_s).chain(finer_dwells(&space.dwells_s, coarse.dwell_s)) {
-            scan.dwell(order, dwell, &every, &mut none, &mut plan);
+            scan.dwell(order, dwell, &every, &mut found, &mut plan);
+        }
+        if let Some(run) = found {
+            plan.per_order.push(run.clone());
+            plan.fastest = Some(run);
+            plan.floor = None;
         }
     }
     plan
@@ -373,6 +379,11 @@ mod tests {
             floor.sigma_arcsec <= 1.001 * fine_floor,
             "{floor:?} against {fine_floor}"
         );
+        // A target between the grid's floor and the true one is reached, not called out of reach.
+        let target = 0.5 * (floor.sigma_arcsec + coarse_floor);
+        let plan = search(&m, &b, &tm, &sequential, &space, target, 5.0);
+        let run = plan.fastest.unwrap_or_else(|| panic!("{target}\" called out of reach"));
+        assert!(plan.floor.is_none() && run.sigma_arcsec <= target, "{run:?}");
     }
 
     #[test]
