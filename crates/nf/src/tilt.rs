@@ -51,18 +51,11 @@ pub fn auto_method(rec: &Recording) -> TiltMethod {
     }
 }
 
-/// One axis's reading at an angle: `y` for the Y axis.
-struct Reading {
-    gamma_deg: f64,
-    deg: f64,
-    y: bool,
-}
-
-fn readings(rec: &Recording) -> Vec<Reading> {
+fn readings(rec: &Recording) -> Vec<AxisReading> {
     let at = |r: &crate::recording::Row, v: Option<f64>, y: bool| {
-        v.map(|deg| Reading {
+        v.map(|deg: f64| AxisReading {
             gamma_deg: r.encoder_deg,
-            deg,
+            sin_elev: deg.to_radians().sin(),
             y,
         })
     };
@@ -79,7 +72,7 @@ fn readings(rec: &Recording) -> Vec<Reading> {
 fn circle(rec: &Recording) -> Result<(ShaftTilt<f64>, Option<String>), String> {
     let mut r = readings(rec);
     let mut warning = None;
-    if tilt_sense::turns_the_wrong_way(&sensed(&r)) {
+    if tilt_sense::turns_the_wrong_way(&r) {
         r.retain(|r| !r.y);
         warning = Some(WRONG_WAY.to_string());
     }
@@ -90,17 +83,8 @@ fn circle(rec: &Recording) -> Result<(ShaftTilt<f64>, Option<String>), String> {
         ));
     }
     let (has_x, has_y) = (r.iter().any(|r| !r.y), r.iter().any(|r| r.y));
-    let mut cols: Vec<Vec<f64>> = Vec::new();
-    if has_x {
-        cols.push(r.iter().map(|r| if r.y { 0.0 } else { 1.0 }).collect());
-    }
-    if has_y {
-        cols.push(r.iter().map(|r| if r.y { 1.0 } else { 0.0 }).collect());
-    }
-    let (s, c): (Vec<f64>, Vec<f64>) = r.iter().map(|r| r.gamma_deg.to_radians().sin_cos()).unzip();
-    cols.push((0..r.len()).map(|i| if r[i].y { -s[i] } else { c[i] }).collect());
-    cols.push((0..r.len()).map(|i| if r[i].y { c[i] } else { s[i] }).collect());
-    let sines: Vec<f64> = r.iter().map(|r| r.deg.to_radians().sin()).collect();
+    let cols = tilt_sense::circle_cols(&r, false);
+    let sines: Vec<f64> = r.iter().map(|r| r.sin_elev).collect();
     let ls = linfit::fit(&cols, &sines).ok_or_else(|| {
         format!(
             "the inclinometer's {} readings do not determine the tilt circle",
@@ -123,17 +107,6 @@ fn circle(rec: &Recording) -> Result<(ShaftTilt<f64>, Option<String>), String> {
         rms_deg,
     );
     Ok((shaft, warning))
-}
-
-/// The readings as the sense test takes them.
-fn sensed(r: &[Reading]) -> Vec<AxisReading> {
-    r.iter()
-        .map(|r| AxisReading {
-            gamma_deg: r.gamma_deg,
-            sin_elev: r.deg.to_radians().sin(),
-            y: r.y,
-        })
-        .collect()
 }
 
 /// The corrections by `method`. `fit` gives the azimuth (deg) and amplitude (deg/h) of the

@@ -8,7 +8,7 @@
 use crate::linfit;
 use crate::stats::f_sf;
 
-/// One axis's reading: `sin` of the elevation, at an encoder angle.
+/// One axis's reading: `sin` of the elevation, at an encoder angle; `y` for the Y axis.
 #[derive(Debug, Clone, Copy)]
 pub struct AxisReading {
     pub gamma_deg: f64,
@@ -22,23 +22,29 @@ const REJECT: f64 = 1e-6;
 /// The mirror image is consistent with the free fit at this level.
 const CONSISTENT: f64 = 1e-3;
 
-/// The circle's columns: each axis's offset, then `a` and `b` turning the proper way or the
-/// mirror way.
-fn circle_cols(r: &[AxisReading], mirror: bool) -> Vec<Vec<f64>> {
+/// The circle's columns: the offset of each axis read (X's first), then `a` and `b` turning
+/// the proper way or the mirror way.
+pub fn circle_cols(r: &[AxisReading], mirror: bool) -> Vec<Vec<f64>> {
     let sign = if mirror { -1.0 } else { 1.0 };
     let trig: Vec<(f64, f64)> = r.iter().map(|r| r.gamma_deg.to_radians().sin_cos()).collect();
-    vec![
-        r.iter().map(|r| f64::from(u8::from(!r.y))).collect(),
-        r.iter().map(|r| f64::from(u8::from(r.y))).collect(),
+    let mut cols: Vec<Vec<f64>> = [false, true]
+        .into_iter()
+        .filter(|&y| r.iter().any(|r| r.y == y))
+        .map(|y| r.iter().map(|r| f64::from(u8::from(r.y == y))).collect())
+        .collect();
+    cols.push(
         r.iter()
             .zip(&trig)
             .map(|(r, (s, c))| if r.y { -sign * s } else { *c })
             .collect(),
+    );
+    cols.push(
         r.iter()
             .zip(&trig)
             .map(|(r, (s, c))| if r.y { sign * c } else { *s })
             .collect(),
-    ]
+    );
+    cols
 }
 
 /// Each axis with its own offset and first harmonic.
