@@ -127,14 +127,15 @@ pub fn search(
         levelling_s,
         max_time_s: space.max_time_s,
     };
+    // Between the grid's points: every number of positions it reaches.
+    let every: Vec<usize> = (4..=*space.positions.iter().max().unwrap_or(&4)).collect();
     for order in orders {
         let mut best: Option<Candidate> = None;
         for &dwell in &space.dwells_s {
             scan.dwell(order, dwell, &space.positions, &mut best, &mut plan);
         }
         if let Some(coarse) = best.clone() {
-            // Between the grid's points: every number of positions at dwells around the best.
-            let every: Vec<usize> = (4..=*space.positions.iter().max().unwrap_or(&4)).collect();
+            // Every number of positions at dwells around the best.
             for dwell in finer_dwells(&space.dwells_s, coarse.dwell_s) {
                 scan.dwell(order, dwell, &every, &mut best, &mut plan);
             }
@@ -154,7 +155,6 @@ pub fn search(
         // Between the grid's points, as for the fastest run: every number of positions at
         // the floor's dwell and the dwells around it. A floor just above the target can have
         // a run below it there.
-        let every: Vec<usize> = (4..=*space.positions.iter().max().unwrap_or(&4)).collect();
         let mut found = None;
         for dwell in std::iter::once(coarse.dwell_s).chain(finer_dwells(&space.dwells_s, coarse.dwell_s)) {
             scan.dwell(order, dwell, &every, &mut found, &mut plan);
