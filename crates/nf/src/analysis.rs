@@ -89,6 +89,9 @@ pub struct Analysis {
     pub tilt_bridged: usize,
     /// Why some inclinometer readings were not used, when they were not.
     pub tilt_warning: Option<String>,
+    /// The share of the azimuth's sigma (deg) that the tilt circle's uncertainty carries;
+    /// `gls.sigma_psi_deg` includes it.
+    pub sigma_inclinometer_deg: f64,
     /// `(gamma, t, rate, fitted, residual)` per position.
     pub points: Vec<[f64; 5]>,
     pub amplitude_predicted_dph: f64,
@@ -115,6 +118,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         wild,
         out,
     } = plain_holding_out(rec, method, cfg)?;
+    let sigma_inclinometer_deg = tilt.sigma_psi_deg;
     let (corrections, shaft, bridged, tilt_warning) = (tilt.corrections, tilt.shaft, tilt.bridged, tilt.warning);
     let used = Recording {
         rows: out_of(&rec.rows, &out),
@@ -126,7 +130,9 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         .zip(out_of(&corrections, &out))
         .map(|(r, c)| r.rate_dph - c)
         .collect();
-    let gls = noise_fit::fit(&used, &y, &cfg, &opt.noise, opt.replicates)?;
+    let mut gls = noise_fit::fit(&used, &y, &cfg, &opt.noise, opt.replicates)?;
+    // The tilt circle is measured apart from the gyro: its uncertainty adds.
+    gls.sigma_psi_deg = gls.sigma_psi_deg.hypot(sigma_inclinometer_deg);
     let n = fit.n;
     let sigma_gyro_dph = fit.s2.sqrt();
     // With the tilt measured, what is left of it is the inclinometer's uncertainty.
@@ -155,6 +161,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         shaft,
         tilt_bridged: bridged,
         tilt_warning,
+        sigma_inclinometer_deg,
         points,
         sigma_gyro_dph,
         gls,

@@ -36,6 +36,28 @@ pub struct Tilt {
     pub iterations: u32,
     /// Why some readings were not used, when they were not.
     pub warning: Option<String>,
+    /// The azimuth's standard deviation that the circle's own uncertainty carries (exact
+    /// method; deg). First order corrects each dwell mean by its own reading, whose noise is
+    /// then in the rates and in their residuals.
+    pub sigma_psi_deg: f64,
+}
+
+/// The tilt circle as fitted: its coefficients and the covariance of its first harmonic.
+struct Circle {
+    shaft: ShaftTilt<f64>,
+    cx: f64,
+    cy: f64,
+    a: f64,
+    b: f64,
+    /// Covariance of `a` and `b`, from the readings' scatter about the circle.
+    cov: [[f64; 2]; 2],
+}
+
+impl Circle {
+    /// The tilt with the first harmonic moved by `(da, db)`.
+    fn moved(&self, da: f64, db: f64) -> ShaftTilt<f64> {
+        ShaftTilt::from_circle(self.cx, self.cy, self.a + da, self.b + db, self.shaft.rms_deg)
+    }
 }
 
 /// What the tilt circle is drawn from when X and Y turn round it the mirror way.
@@ -69,7 +91,7 @@ fn readings(rec: &Recording) -> Vec<AxisReading> {
 /// The tilt circle from the readings there are, by the model of `nf_model::level::fit_tilt`:
 /// `sin x = cx + a cos(gamma) + b sin(gamma)`, `sin y = cy - a sin(gamma) + b cos(gamma)`, a
 /// mounting offset for each axis read (NaN for an axis never read).
-fn circle(rec: &Recording) -> Result<(ShaftTilt<f64>, Option<String>), String> {
+fn circle(rec: &Recording) -> Result<(Circle, Option<String>), String> {
     let mut r = readings(rec);
     let mut warning = None;
     if tilt_sense::turns_the_wrong_way(&r) {
@@ -94,19 +116,26 @@ fn circle(rec: &Recording) -> Result<(ShaftTilt<f64>, Option<String>), String> {
     let k = cols.len();
     let (a, b) = (ls.coef[k - 2], ls.coef[k - 1]);
     let offsets = |i: Option<usize>| i.map_or(f64::NAN, |i| ls.coef[i]);
-    let rms_deg = if ls.dof > 0 {
-        ls.s2().sqrt().asin().to_degrees()
-    } else {
-        0.0
-    };
-    let shaft = ShaftTilt::from_circle(
+    // Readings that fit the circle exactly leave no scatter to measure it by.
+    let s2 = if ls.dof > 0 { ls.s2() } else { 0.0 };
+    let rms_deg = s2.sqrt().asin().to_degrees();
+    let (cx, cy) = (
         offsets(has_x.then_some(0)),
         offsets(has_y.then_some(usize::from(has_x))),
+    );
+    let cov = [
+        [s2 * ls.cov_unit[k - 2][k - 2], s2 * ls.cov_unit[k - 2][k - 1]],
+        [s2 * ls.cov_unit[k - 1][k - 2], s2 * ls.cov_unit[k - 1][k - 1]],
+    ];
+    let circle = Circle {
+        shaft: ShaftTilt::from_circle(cx, cy, a, b, rms_deg),
+        cx,
+        cy,
         a,
         b,
-        rms_deg,
-    );
-    Ok((shaft, warning))
+        cov,
+    };
+    Ok((circle, warning))
 }
 
 /// The corrections by `method`. `fit` gives the azimuth (deg) and amplitude (deg/h) of the
@@ -126,6 +155,7 @@ pub fn correct(
         bridged: 0,
         iterations: 0,
         warning: None,
+        sigma_psi_deg: 0.0,
     };
     match method {
         TiltMethod::None => Ok(none),
@@ -135,81 +165,118 @@ pub fn correct(
                 corrections: x.iter().map(|&x| vertical_earth_rate_dph(lat, x)).collect(),
                 bridged,
                 // Measured, not used: so the output can say how large a tilt first order took.
-                shaft: circle(rec).ok().map(|c| c.0),
+                shaft: circle(rec).ok().map(|c| c.0.shaft),
                 ..none
             })
         }
         TiltMethod::Exact => {
-            let (t, warning) = circle(rec)?;
+            let (c, warning) = circle(rec)?;
             let read =
                 |r: &crate::recording::Row| r.tilt_x_deg.is_some() || (warning.is_none() && r.tilt_y_deg.is_some());
             let bridged = rec.rows.iter().filter(|r| !read(r)).count();
-            let none = Tilt { warning, ..none };
-            // Start from first order (the circle's X at each position), then solve the exact
-            // model with the fitted azimuth and scale.
-            let corr: Vec<f64> = gammas
-                .iter()
-                .map(|&g| vertical_earth_rate_dph(lat, circle_x_deg(&t, g)))
-                .collect();
-            let (mut psi, mut amp) = fit(&corr)?;
-            // The azimuth and the amplitude are a fixed point of "correct with them, then fit".
-            // At high latitude and large tilt the map moves nearly as fast as its arguments (its
-            // slope is about eta tan(lat)), and plain iteration stalls: Newton on
-            // G(psi, amp) = fit(correct(psi, amp)) - (psi, amp), its Jacobian by differences.
-            let mut eval = |psi: f64, amp: f64| -> Result<([f64; 2], Vec<f64>), String> {
-                let corr = exact_tilt_correction(lat, psi, amp, &t, &gammas);
-                let (p, a) = fit(&corr)?;
-                Ok(([wrap_180(p - psi), a - amp], corr))
-            };
-            // The closest point met, for when rounding keeps the step from the tolerance.
-            let mut closest: Option<(f64, Vec<f64>)> = None;
-            for k in 1..=MAX_ITERATIONS {
-                let (g, c) = eval(psi, amp)?;
-                if g[0].abs() < PSI_TOL_DEG && g[1].abs() < 1e-12 * amp.abs().max(1e-6) {
-                    return Ok(Tilt {
-                        corrections: c,
-                        shaft: Some(t),
-                        bridged,
-                        iterations: k,
-                        ..none.clone()
-                    });
-                }
-                if closest.as_ref().is_none_or(|(d, _)| g[0].abs() < *d) {
-                    closest = Some((g[0].abs(), c));
-                }
-                let (hp, ha) = (1e-6, 1e-6 * amp.abs().max(1e-3));
-                let (gp, _) = eval(psi + hp, amp)?;
-                let (ga, _) = eval(psi, amp + ha)?;
-                let j = [
-                    [(gp[0] - g[0]) / hp, (ga[0] - g[0]) / ha],
-                    [(gp[1] - g[1]) / hp, (ga[1] - g[1]) / ha],
-                ];
-                let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-                let (dp, da) = if det.is_finite() && det.abs() > 1e-300 {
-                    (
-                        (-g[0] * j[1][1] + g[1] * j[0][1]) / det,
-                        (-g[1] * j[0][0] + g[0] * j[1][0]) / det,
-                    )
-                } else {
-                    (g[0], g[1])
-                };
-                psi += dp.clamp(-30.0, 30.0);
-                amp = (amp + da).max(1e-9);
-            }
-            match closest {
-                Some((d, corrections)) if d < NEAR_ENOUGH_DEG => Ok(Tilt {
-                    corrections,
-                    shaft: Some(t),
-                    bridged,
-                    iterations: MAX_ITERATIONS,
-                    ..none
-                }),
-                _ => Err(format!(
-                    "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations"
-                )),
-            }
+            let (corrections, iterations, psi) = solve(lat, &gammas, &c.shaft, &mut fit)?;
+            let sigma_psi_deg = circle_sigma_deg(lat, &gammas, &c, &mut fit, psi);
+            Ok(Tilt {
+                corrections,
+                shaft: Some(c.shaft),
+                bridged,
+                iterations,
+                warning,
+                sigma_psi_deg,
+                ..none
+            })
         }
     }
+}
+
+/// The exact correction for the tilt `t`, with the azimuth and amplitude it leaves: its
+/// corrections, the iterations taken and the azimuth (deg).
+fn solve(
+    lat: f64,
+    gammas: &[f64],
+    t: &ShaftTilt<f64>,
+    fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
+) -> Result<(Vec<f64>, u32, f64), String> {
+    // Start from first order (the circle's X at each position), then solve the exact model
+    // with the fitted azimuth and scale.
+    let corr: Vec<f64> = gammas
+        .iter()
+        .map(|&g| vertical_earth_rate_dph(lat, circle_x_deg(t, g)))
+        .collect();
+    let (mut psi, mut amp) = fit(&corr)?;
+    // The azimuth and the amplitude are a fixed point of "correct with them, then fit". At
+    // high latitude and large tilt the map moves nearly as fast as its arguments (its slope is
+    // about eta tan(lat)), and plain iteration stalls: Newton on
+    // G(psi, amp) = fit(correct(psi, amp)) - (psi, amp), its Jacobian by differences.
+    let mut eval = |psi: f64, amp: f64| -> Result<([f64; 2], Vec<f64>), String> {
+        let corr = exact_tilt_correction(lat, psi, amp, t, gammas);
+        let (p, a) = fit(&corr)?;
+        Ok(([wrap_180(p - psi), a - amp], corr))
+    };
+    // The closest point met, for when rounding keeps the step from the tolerance.
+    let mut closest: Option<(f64, Vec<f64>, f64)> = None;
+    for k in 1..=MAX_ITERATIONS {
+        let (g, c) = eval(psi, amp)?;
+        if g[0].abs() < PSI_TOL_DEG && g[1].abs() < 1e-12 * amp.abs().max(1e-6) {
+            return Ok((c, k, psi + g[0]));
+        }
+        if closest.as_ref().is_none_or(|(d, _, _)| g[0].abs() < *d) {
+            closest = Some((g[0].abs(), c, psi + g[0]));
+        }
+        let (hp, ha) = (1e-6, 1e-6 * amp.abs().max(1e-3));
+        let (gp, _) = eval(psi + hp, amp)?;
+        let (ga, _) = eval(psi, amp + ha)?;
+        let j = [
+            [(gp[0] - g[0]) / hp, (ga[0] - g[0]) / ha],
+            [(gp[1] - g[1]) / hp, (ga[1] - g[1]) / ha],
+        ];
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        let (dp, da) = if det.is_finite() && det.abs() > 1e-300 {
+            (
+                (-g[0] * j[1][1] + g[1] * j[0][1]) / det,
+                (-g[1] * j[0][0] + g[0] * j[1][0]) / det,
+            )
+        } else {
+            (g[0], g[1])
+        };
+        psi += dp.clamp(-30.0, 30.0);
+        amp = (amp + da).max(1e-9);
+    }
+    match closest {
+        Some((d, corrections, psi)) if d < NEAR_ENOUGH_DEG => Ok((corrections, MAX_ITERATIONS, psi)),
+        _ => Err(format!(
+            "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations"
+        )),
+    }
+}
+
+/// The azimuth's standard deviation (deg) from the circle's own uncertainty: the correction
+/// solved again with the circle's first harmonic moved by one standard deviation of each
+/// coefficient, the two slopes propagated through their covariance. A quiet gyro's azimuth
+/// can know less than the inclinometer: about `tan(lat)` times the circle's sigma.
+fn circle_sigma_deg(
+    lat: f64,
+    gammas: &[f64],
+    c: &Circle,
+    fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
+    psi: f64,
+) -> f64 {
+    let h = [c.cov[0][0].sqrt(), c.cov[1][1].sqrt()];
+    let mut slope = [0.0; 2];
+    for k in 0..2 {
+        if h[k].is_nan() || h[k] <= 0.0 {
+            continue;
+        }
+        let moved = c.moved(if k == 0 { h[k] } else { 0.0 }, if k == 1 { h[k] } else { 0.0 });
+        match solve(lat, gammas, &moved, fit) {
+            Ok((_, _, p)) => slope[k] = wrap_180(p - psi) / h[k],
+            // To first order either coefficient turns the azimuth by tan(lat) radians.
+            Err(_) => return lat.to_radians().tan().abs() * (0.5 * (c.cov[0][0] + c.cov[1][1])).sqrt().to_degrees(),
+        }
+    }
+    let var =
+        slope[0] * slope[0] * c.cov[0][0] + 2.0 * slope[0] * slope[1] * c.cov[0][1] + slope[1] * slope[1] * c.cov[1][1];
+    var.max(0.0).sqrt()
 }
 
 /// The X axis's elevation on the tilt circle at `gamma`, without its mounting offset: what

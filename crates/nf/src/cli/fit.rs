@@ -161,8 +161,12 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         )?;
         writeln!(
             out,
-            "sigma          {:.2} arcsec  (1 sigma, generalised least squares under the noise model)",
-            g.sigma_psi_deg * 3600.0
+            "sigma          {:.2} arcsec  (1 sigma, generalised least squares under the noise model{})",
+            g.sigma_psi_deg * 3600.0,
+            match an.sigma_inclinometer_deg * 3600.0 {
+                s if s >= 0.005 => format!(", with {s:.2} arcsec from the tilt circle's uncertainty"),
+                _ => String::new(),
+            }
         )?;
     }
     let m = &g.model;

@@ -151,6 +151,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
     })?;
     let tilt_warning = tilt.as_ref().and_then(|t| t.warning.clone());
+    let tilt_sigma_arcsec = tilt.as_ref().map_or(0.0, |t| t.sigma_psi_deg * 3600.0);
     let y: Vec<f64> = match &tilt {
         Some(t) => d.rate.iter().zip(&t.corrections).map(|(r, c)| r - c).collect(),
         None => d.rate.clone(),
@@ -206,7 +207,9 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     .run(start)?;
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
-    let final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
+    let mut final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
+    // The tilt circle is measured apart from the gyro: its uncertainty adds.
+    final_.sigma_arcsec = final_.sigma_arcsec.hypot(tilt_sigma_arcsec);
     let s2 = sel.fit.s2();
     let cov: Vec<Vec<f64>> = sel
         .fit

@@ -20,6 +20,9 @@ pub struct ShaftTilt {
     pub corrections: Vec<f64>,
     /// Why some inclinometer readings were not used, when they were not.
     pub warning: Option<String>,
+    /// The azimuth's standard deviation (deg) that the circle's uncertainty carries, beside
+    /// the gyro's.
+    pub sigma_psi_deg: f64,
 }
 
 impl ShaftTilt {
@@ -54,6 +57,7 @@ impl ShaftTilt {
             parameters.extend([
                 param("tilt_deg", s.tilt_deg, Some(sigma_tilt)),
                 param("tilt_dir_deg", s.tilt_dir_deg, None),
+                param("azimuth_sigma_arcsec", t.sigma_psi_deg * 3600.0, None),
             ]);
             // An axis never read has no offset to report.
             for (name, v) in [("offset_x_deg", s.offset_x_deg), ("offset_y_deg", s.offset_y_deg)] {
@@ -72,6 +76,7 @@ impl ShaftTilt {
             ),
             corrections: t.corrections,
             warning: t.warning,
+            sigma_psi_deg: t.sigma_psi_deg,
         }))
     }
 }

@@ -60,8 +60,11 @@ pub(super) struct FitJson {
     shaft_tilt_dir_deg: Option<f64>,
     /// 1-sigma uncertainty of the amplitude, deg/h.
     sigma_amplitude_dph: f64,
-    /// 1-sigma uncertainty of the azimuth, arcsec.
+    /// 1-sigma uncertainty of the azimuth, arcsec: the gyro's, and the tilt circle's.
     sigma_arcsec: f64,
+    /// The tilt circle's share of `sigma_arcsec` (its readings' scatter propagated through the
+    /// exact correction), arcsec; 0 without one.
+    sigma_inclinometer_arcsec: f64,
     /// RMS of the residuals, deg/h.
     sigma_gyro_dph: f64,
     /// The surveying azimuth (clockwise from true north) of the gamma = 0 direction, deg;
@@ -189,6 +192,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
         shaft_tilt_dir_deg: an.shaft.map(|s| s.tilt_dir_deg),
         sigma_amplitude_dph: g.sigma_amplitude_dph,
         sigma_arcsec: g.sigma_psi_deg * 3600.0,
+        sigma_inclinometer_arcsec: an.sigma_inclinometer_deg * 3600.0,
         sigma_gyro_dph: an.sigma_gyro_dph,
         surveying_azimuth_deg: unresolved.is_none().then_some(surveying_azimuth_deg(g.psi_deg) + 0.0),
         tilt_bridged_positions: an.tilt_bridged,
