@@ -248,7 +248,7 @@ fn recordings_with_a_bom_a_pole_or_repeated_rows() {
             "pole.csv",
             &text.replace("latitude_deg = 43.80000", &format!("latitude_deg = {lat}")),
         );
-        let err = refused(&["fit", &pole], "line 2");
+        let err = refused(&["fit", &pole], &format!("{pole}:2: "));
         assert!(err.contains("latitude_deg"), "{err}");
         refused(&["fit", &pole, "--json"], "latitude_deg");
     }

@@ -237,7 +237,8 @@ fn fit_of_a_bad_recording_names_the_line() {
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,oops\n").unwrap();
     let (code, _, err) = nf(&["fit", &bad]);
     assert_eq!(code, 2);
-    assert!(err.contains("line 5") && err.contains("rate_dph 'oops'"), "{err}");
+    // As compilers name a place: FILE:LINE, as `nf allan` does too.
+    assert!(err.contains(&format!("{bad}:5: rate_dph 'oops'")), "{err}");
     let (code, _, err) = nf(&["fit", "/nonexistent.csv"]);
     assert_eq!(code, 2);
     assert!(err.contains("cannot read"), "{err}");

@@ -9,13 +9,9 @@ use crate::linfit;
 use crate::noise_fit::dwell_of;
 use crate::recording::{self, Recording};
 use crate::static_log::{self, GAP_FACTOR, Spacing, StaticLog};
-use crate::textfile::{Error, Head, err};
+use crate::textfile::{Error, Head, err, short};
 
 /// A number for a note: six decimals at most, no trailing zeros.
-fn short(x: f64) -> String {
-    let s = format!("{x:.6}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
-}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {

@@ -7,7 +7,7 @@
 //! angle on two rows is fine: a run may visit a position twice (`order = forward-back`).
 
 pub use crate::textfile::Error;
-use crate::textfile::{Head, err, number, optional as optional_cell, read_text};
+use crate::textfile::{Head, err, is_missing, number, optional as optional_cell, read_text, short};
 use std::collections::BTreeMap;
 
 pub const FORMAT: &str = "northfinder-recording/1";
@@ -57,6 +57,51 @@ const COLUMNS: [&str; 13] = [
     "q3_dph",
     "q4_dph",
 ];
+/// The optional columns, as the fit uses them: the quarters are one.
+const OPTIONAL_GROUPS: [(&str, &[&str]); 6] = [
+    ("rate_sd_dph", &["rate_sd_dph"]),
+    ("samples", &["samples"]),
+    ("temp_c", &["temp_c"]),
+    ("tilt_x_deg", &["tilt_x_deg"]),
+    ("tilt_y_deg", &["tilt_y_deg"]),
+    ("q1_dph .. q4_dph", &["q1_dph", "q2_dph", "q3_dph", "q4_dph"]),
+];
+
+/// The lines on which an optional column has no value (empty, NaN, NA, null, ...): read as
+/// not recorded there, and said once per column so that no value goes unremarked.
+#[derive(Default)]
+struct Blanks {
+    lines: BTreeMap<&'static str, Vec<usize>>,
+}
+
+impl Blanks {
+    fn add(&mut self, column: &'static str, line: usize) {
+        self.lines.entry(column).or_default().push(line);
+    }
+
+    fn warnings(&self, rows: usize) -> Vec<Error> {
+        const LISTED: usize = 5;
+        self.lines
+            .iter()
+            .map(|(column, lines)| {
+                let mut list: Vec<String> = lines.iter().take(LISTED).map(|l| l.to_string()).collect();
+                if lines.len() > LISTED {
+                    list.push("...".into());
+                }
+                let plural = if lines.len() > 1 { "s" } else { "" };
+                Error {
+                    line: lines[0],
+                    what: format!(
+                        "{column}: no value on {} of {rows} positions (line{plural} {}): read as not recorded there",
+                        lines.len(),
+                        list.join(", ")
+                    ),
+                }
+            })
+            .collect()
+    }
+}
+
 /// The metadata the readers of a recording use: each may be given once only.
 const KEYS: [&str; 4] = ["format", "latitude_deg", "dwell_s", "sample_rate_hz"];
 /// A rate no gyro gives (3e8 deg/s): a value this size is a fault, and its square would
@@ -109,6 +154,7 @@ impl Recording {
         // Each index's first line and a hash of its cells (keeping the cells themselves would
         // take a gigabyte at a million rows).
         let mut seen: BTreeMap<u32, (usize, u64)> = BTreeMap::new();
+        let mut blanks = Blanks::default();
         for row in head.rows(text) {
             let (n, cells) = row?;
             let num = |name: &str| number(n, name, &cells[col(name)]);
@@ -142,6 +188,11 @@ impl Recording {
                 }
                 None => {
                     seen.insert(index as u32, (n, hash));
+                }
+            }
+            for (group, names) in OPTIONAL_GROUPS {
+                if names.iter().any(|c| head.col(c).is_some_and(|i| is_missing(&cells[i]))) {
+                    blanks.add(group, n);
                 }
             }
             let encoder_deg = num("encoder_deg")?;
@@ -196,6 +247,7 @@ impl Recording {
         if rows.is_empty() {
             return err(0, "the recording has no positions");
         }
+        warnings.extend(blanks.warnings(rows.len()));
         in_visiting_order(&mut rows, &mut warnings)?;
         quarters_of_their_dwells(&mut rows, &mut warnings);
         if let Some(d) = dwell_s {
@@ -209,12 +261,9 @@ impl Recording {
         })
     }
 
+    /// The recording in the file `path`; an error gives its line (`Error::at` names the file).
     pub fn read(path: &str) -> Result<Recording, Error> {
-        let text = read_text(path)?;
-        Recording::parse(&text).map_err(|e| Error {
-            line: e.line,
-            what: format!("{path}: {}", e.what),
-        })
+        Recording::parse(&read_text(path)?)
     }
 
     /// At least `min` positions, which `what` needs: a clear reason rather than a fit without
@@ -306,7 +355,7 @@ fn dwells_apart(rows: &[Row], dwell_s: f64, line: usize, warnings: &mut Vec<Erro
             line,
             what: format!(
                 "dwell_s {dwell_s} s is longer than the {} s between the centres of lines {} and {}: the dwells would overlap; taken as given",
-                b.t_s - a.t_s,
+                short(b.t_s - a.t_s),
                 a.line,
                 b.line
             ),

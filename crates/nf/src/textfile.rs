@@ -304,8 +304,16 @@ pub fn read_text(path: &str) -> Result<String, Error> {
                 text
             })
         }
-        Err(e) => err(0, format!("cannot read {path}: {e}")),
+        // The caller names the file (`Error::at`).
+        Err(e) => err(0, format!("cannot read it: {e}")),
     }
+}
+
+/// A number as a message gives it: six decimals at most, no trailing zeros (a difference of
+/// two times is 3.4, not 3.3999999999999915).
+pub fn short(x: f64) -> String {
+    let s = format!("{x:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// A required cell as a finite number; the error names the line and the column.
@@ -320,9 +328,14 @@ pub fn number(line: usize, name: &str, v: &str) -> Result<f64, Error> {
 /// What spreadsheets, pandas, R and databases write for no value, in any case.
 const MISSING: [&str; 8] = ["nan", "-nan", "na", "n/a", "#n/a", "null", "none", "-"];
 
+/// Whether a cell holds no value: empty or one of [`MISSING`].
+pub fn is_missing(v: &str) -> bool {
+    v.is_empty() || MISSING.iter().any(|m| v.eq_ignore_ascii_case(m))
+}
+
 /// An optional cell: empty or one of [`MISSING`] is a missing value.
 pub fn optional(line: usize, name: &str, v: &str) -> Result<Option<f64>, Error> {
-    if v.is_empty() || MISSING.iter().any(|m| v.eq_ignore_ascii_case(m)) {
+    if is_missing(v) {
         return Ok(None);
     }
     match v.parse::<f64>() {

@@ -46,6 +46,23 @@ fn empty_or_nan_optional_cells_are_missing_values() {
     assert_eq!(r.rows[0].temp_c, None);
     assert_eq!(r.rows[0].quarters_dph, Some([1.0, 2.0, 3.0, 4.0]));
     assert_eq!(r.rows[1].quarters_dph, None);
+    // Each column with a blank is said once, at its first line, with its lines.
+    let said: Vec<(usize, String)> = r.warnings.iter().map(|w| (w.line, w.what.clone())).collect();
+    assert_eq!(
+        said,
+        [
+            (
+                5,
+                "q1_dph .. q4_dph: no value on 1 of 2 positions (line 5): read as not recorded there".to_string()
+            ),
+            (
+                4,
+                "temp_c: no value on 2 of 2 positions (lines 4, 5): read as not recorded there".to_string()
+            ),
+        ]
+    );
+    let full = Recording::parse(GOOD).unwrap();
+    assert!(full.warnings.is_empty(), "{:?}", full.warnings);
 }
 
 fn error(text: &str) -> (usize, String) {
@@ -338,7 +355,12 @@ fn a_byte_that_is_not_utf8_in_a_column_no_one_reads_is_harmless() {
 #[test]
 fn a_missing_file_says_so() {
     let e = Recording::read("/nonexistent/run.csv").unwrap_err();
-    assert!(e.to_string().contains("cannot read /nonexistent/run.csv"));
+    assert_eq!(e.line, 0);
+    assert!(
+        e.at("/nonexistent/run.csv")
+            .starts_with("/nonexistent/run.csv: cannot read it: "),
+        "{e}"
+    );
 }
 
 #[test]

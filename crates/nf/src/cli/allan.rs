@@ -70,7 +70,7 @@ fn check(a: &AllanArgs) -> Result<(), Fail> {
 
 pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     check(&a)?;
-    let text = crate::textfile::read_text(&a.file).map_err(|e| Fail(e.to_string(), 2))?;
+    let text = crate::textfile::read_text(&a.file).map_err(|e| Fail(e.at(&a.file), 2))?;
     let src = Source::parse(&text, a.sample_rate).map_err(|e| Fail(e.at(&a.file), 2))?;
     let (points, fit) = fit_series(&src.segments(), src.sampling).map_err(|e| Fail(format!("{}: {e}", a.file), 1))?;
     let r = Report {
@@ -238,12 +238,26 @@ impl Report<'_> {
             );
         }
         let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
+        let longest = self.points.last().map_or(f64::NAN, |p| p.tau_s);
+        let read_off = if mt >= longest {
+            // White noise and a short log: the lowest point is only the last one.
+            format!(
+                "not reached: still falling at the longest tau, so B is below about {} / {:.3} = {} deg/h",
+                g(ma),
+                flicker_floor_factor(),
+                g(ma / flicker_floor_factor())
+            )
+        } else {
+            format!(
+                "read off as B = floor / {:.3}: {} deg/h",
+                flicker_floor_factor(),
+                g(ma / flicker_floor_factor())
+            )
+        };
         out += &format!(
-            "\nfloor      measured: {} deg/h at tau {} s (read off as B = floor / {:.3}: {} deg/h)\n           fitted curve: {} deg/h at tau {} s\n",
+            "\nfloor      measured: {} deg/h at tau {} s ({read_off})\n           fitted curve: {} deg/h at tau {} s\n",
             g(ma),
             g(mt),
-            flicker_floor_factor(),
-            g(ma / flicker_floor_factor()),
             g(fa),
             g(ft)
         );

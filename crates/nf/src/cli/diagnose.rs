@@ -298,7 +298,7 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         )?,
         None => writeln!(
             out,
-            "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights)",
+            "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights and refitted under every noise model the recording allows: the sigma holds the wander one run cannot rule out)",
             angle5(fz.azimuth_deg),
             fz.sigma_arcsec
         )?,

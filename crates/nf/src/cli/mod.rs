@@ -133,7 +133,7 @@ pub(crate) fn spinner(slow: bool, message: String) -> Option<indicatif::Progress
 }
 
 pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
-    let rec = Recording::read(path).map_err(|e| Fail(e.to_string(), 2))?;
+    let rec = Recording::read(path).map_err(|e| Fail(e.at(path), 2))?;
     for w in rec.warnings.iter().take(WARNINGS_SHOWN) {
         note!("nf: warning: {}", w.at(path));
     }

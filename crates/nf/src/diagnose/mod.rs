@@ -105,7 +105,8 @@ pub struct Diagnosis {
     pub findings: Vec<Finding>,
     /// The selected model alone.
     pub selected: Summary,
-    /// The result: the models met, averaged by their weights.
+    /// The result: the models met, averaged by their weights, and over the noise models the
+    /// recording allows; with the tilt circle's uncertainty.
     pub final_: Summary,
     /// Why the result is no azimuth (`nf fit`'s rule on the final sigma and the selected
     /// model's amplitude); `None` when the Earth rate is resolved.

@@ -18,8 +18,8 @@ pub(super) struct DiagnosisJson<'a> {
     baseline: SummaryJson,
     /// Whether the Earth rate is resolved; without it the final has no azimuth.
     earth_rate_resolved: bool,
-    /// The result: the models met, averaged by their weights; its azimuth is null when the
-    /// Earth rate is not resolved.
+    /// The result: the models met, averaged by their weights, and over the noise models the
+    /// recording allows; its azimuth is null when the Earth rate is not resolved.
     #[serde(rename = "final")]
     final_: SummaryJson,
     /// Noise terms, catalogue effects and unexplained structure, in the order found.
