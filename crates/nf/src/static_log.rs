@@ -3,7 +3,7 @@
 //! the log is split into contiguous segments, since an Allan variance across a gap would mix
 //! averaging times.
 
-use crate::textfile::{Error, Head, err, number, optional};
+use crate::textfile::{Error, Head, err, number, optional, short};
 use std::collections::BTreeMap;
 use std::ops::Range;
 
@@ -28,6 +28,8 @@ pub struct Gap {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spacing {
     pub step_s: f64,
+    /// The resolution the times were rounded to, where coarser than the step; else 0.
+    pub resolution_s: f64,
     pub segments: Vec<Range<usize>>,
     pub gaps: Vec<Gap>,
 }
@@ -38,11 +40,12 @@ impl Spacing {
     /// The step is the mean within the segments: times rounded to the millisecond at 128 Hz
     /// step by 8 ms mostly, and by 7.8125 ms on average.
     pub fn of(t_s: &[f64], lines: &[usize]) -> Spacing {
-        let mut steps: Vec<f64> = t_s.windows(2).map(|w| w[1] - w[0]).collect();
+        let in_order: Vec<f64> = t_s.windows(2).map(|w| w[1] - w[0]).collect();
+        let mut steps = in_order.clone();
         steps.sort_by(f64::total_cmp);
         let median = steps[steps.len() / 2];
         let jitter = crate::stats::robust_sigma(steps.iter().map(|s| s - median));
-        let resolution = rounding(&steps, median);
+        let resolution = rounding(&steps, &in_order, median);
         let gap = median
             + ((GAP_FACTOR - 1.0) * median)
                 .max(JITTER_SIGMAS * jitter)
@@ -67,26 +70,86 @@ impl Spacing {
                 (s + t_s[r.end - 1] - t_s[r.start], c + r.len() - 1)
             });
         let step_s = if count > 0 { span / count as f64 } else { median };
-        Spacing { step_s, segments, gaps }
+        Spacing {
+            step_s,
+            resolution_s: resolution,
+            segments,
+            gaps,
+        }
     }
 }
 
 /// The resolution the times were written to, where it is coarser than the step: they then
-/// step by whole counts of it (800 Hz written to the millisecond steps by 1 ms and 2 ms), and
-/// the count next to the median's holds many steps (a twentieth, and three); a lost sample is
-/// one step. 0 when there is no such resolution.
-fn rounding(sorted_steps: &[f64], median: f64) -> f64 {
+/// step by whole counts of it (800 Hz written to the millisecond steps by 1 ms and 2 ms), the
+/// count next to the median's holds many steps (a twentieth, and three), and the times stay
+/// within a count or two of an even grid between gaps; a lost sample is one step, and
+/// samples lost often put the times ever later than the grid (a 100 Hz log missing 6 % of
+/// its samples steps by 10 ms and 20 ms too). 0 when there is no such resolution.
+fn rounding(sorted_steps: &[f64], in_order: &[f64], median: f64) -> f64 {
     let Some(&next) = sorted_steps.iter().find(|&&s| s > median * (1.0 + 1e-6)) else {
         return 0.0;
     };
     // Every step is at least one count, so a count is at most the median step.
     let q = next - median;
     let near = sorted_steps.iter().filter(|&&s| (s - next).abs() < q / 2.0).count();
-    if q <= median * (1.0 + 1e-6) && near >= 3 && near * 20 >= sorted_steps.len() {
-        q
-    } else {
-        0.0
+    if q > median * (1.0 + 1e-6) || near < 3 || near * 20 < sorted_steps.len() {
+        return 0.0;
     }
+    let counted = |s: f64| s < next + q / 2.0;
+    let (sum, count) = in_order
+        .iter()
+        .filter(|s| counted(**s))
+        .fold((0.0, 0usize), |(a, c), s| (a + s, c + 1));
+    let mean = sum / count as f64;
+    // The distance from the grid, started afresh after each gap.
+    let mut off: f64 = 0.0;
+    let mut worst: f64 = 0.0;
+    for &s in in_order {
+        off = if counted(s) { off + s - mean } else { 0.0 };
+        worst = worst.max(off.abs());
+    }
+    if worst <= 2.0 * q { q } else { 0.0 }
+}
+
+/// Where the sampling rate changes: the median step of one twentieth of the log against the
+/// first twentieth's, beyond a tenth, the times' resolution and the spread of the steps inside
+/// a twentieth (times rounded to 1 ms at 133 Hz step by 7 and 8 ms in turn). Lost samples
+/// do not move a median; a rate that changes does.
+fn rate_change(t_s: &[f64], lines: &[usize], resolution: f64) -> Result<(), Error> {
+    const BLOCKS: usize = 20;
+    let steps: Vec<f64> = t_s.windows(2).map(|w| w[1] - w[0]).collect();
+    let len = steps.len() / BLOCKS;
+    if len < 10 {
+        return Ok(());
+    }
+    // Each twentieth's median and interquartile range.
+    let blocks: Vec<(f64, f64)> = (0..BLOCKS)
+        .map(|k| {
+            let mut b = steps[k * len..(k + 1) * len].to_vec();
+            b.sort_by(f64::total_cmp);
+            (b[len / 2], b[3 * len / 4] - b[len / 4])
+        })
+        .collect();
+    let spread = blocks.iter().map(|b| b.1).fold(f64::MAX, f64::min);
+    let first = blocks[0].0;
+    let tolerance = (0.1 * first).max(1.5 * resolution).max(1.5 * spread);
+    let Some(k) = (1..BLOCKS).find(|&k| (blocks[k].0 - first).abs() > tolerance) else {
+        return Ok(());
+    };
+    let m = blocks[k].0;
+    // The first step of the twentieth that is nearer its median than the first one's.
+    let at = (k * len..(k + 1) * len)
+        .find(|&i| (steps[i] - m).abs() < (steps[i] - first).abs())
+        .unwrap_or(k * len);
+    err(
+        lines.get(at + 1).copied().unwrap_or(0),
+        format!(
+            "the samples are {} s apart at the start and {} s apart from here (t_s {}): the sampling rate changes, and an Allan deviation needs one; split the log here",
+            short(first),
+            short(m),
+            t_s[at + 1]
+        ),
+    )
 }
 
 /// A whole static log.
@@ -105,8 +168,20 @@ impl StaticLog {
     pub fn parse(text: &str) -> Result<StaticLog, Error> {
         let head = Head::parse(text)?;
         head.require_format(text, FORMAT)?;
-        head.known(&["format", "sample_rate_hz"], &["t_s", "rate_dph", "temp_c"])?;
+        head.known(
+            &["format", "sample_rate_hz", "latitude_deg"],
+            &["t_s", "rate_dph", "temp_c"],
+        )?;
         head.positive_meta("sample_rate_hz", "Hz")?;
+        // Not used by the Allan fit, but a value the format defines is checked all the same.
+        if let Some(v) = head.meta.get("latitude_deg")
+            && !v.parse::<f64>().is_ok_and(|x| x.abs() <= 90.0)
+        {
+            return err(
+                head.meta_line("latitude_deg"),
+                format!("latitude_deg '{v}' is not a latitude in degrees (-90 to 90)"),
+            );
+        }
         head.require_columns(&["t_s", "rate_dph"])?;
         let required = |name: &str| head.col(name).expect("required column");
         let (ct, cr, ctemp) = (required("t_s"), required("rate_dph"), head.col("temp_c"));
@@ -137,9 +212,11 @@ impl StaticLog {
             lines.push(n);
         }
         if t_s.len() < 2 {
-            return err(0, format!("the log has {} samples: no time step to read", t_s.len()));
+            let s = if t_s.len() == 1 { "" } else { "s" };
+            return err(0, format!("the log has {} sample{s}: no time step to read", t_s.len()));
         }
         let spacing = Spacing::of(&t_s, &lines);
+        rate_change(&t_s, &lines, spacing.resolution_s)?;
         Ok(StaticLog {
             meta: head.meta,
             t_s,
@@ -215,6 +292,41 @@ mod tests {
     }
 
     #[test]
+    fn samples_lost_often_are_each_a_gap_and_not_a_rounding() {
+        // 100 Hz, one sample in 16 lost at random, times to 10 us: steps of 10 ms and 20 ms,
+        // as a log rounded to 10 ms would have, but the times walk off any even grid.
+        let mut rng = nf_model::rng::Rng::new(8);
+        let kept: Vec<usize> = (0..20_000).filter(|_| rng.unit() >= 1.0 / 16.0).collect();
+        let lost = log_of(kept.iter().map(|&i| (i as f64 * 0.01 * 1e5).round() / 1e5));
+        let singles = kept.windows(2).filter(|w| w[1] - w[0] > 1).count();
+        assert_eq!(lost.spacing.resolution_s, 0.0);
+        assert_eq!(lost.spacing.gaps.len(), singles);
+        assert!((lost.spacing.step_s - 0.01).abs() < 1e-9, "{}", lost.spacing.step_s);
+    }
+
+    #[test]
+    fn a_rate_that_changes_is_refused_where_it_changes() {
+        // 100 Hz for 30 s, then 50 Hz.
+        let t = (0..3000)
+            .map(|i| i as f64 * 0.01)
+            .chain((0..1500).map(|i| 30.0 + i as f64 * 0.02));
+        let text: String = t.map(|t| format!("{t:.5},1\n")).collect();
+        let e = StaticLog::parse(&format!("{HEAD}t_s,rate_dph\n{text}")).unwrap_err();
+        // Line 4 holds t = 0; the first step of 20 ms ends at t = 30.02, line 3005.
+        assert_eq!(e.line, 3005, "{e}");
+        assert!(
+            e.to_string().contains("0.01 s apart at the start and 0.02 s apart"),
+            "{e}"
+        );
+        // Times rounded to the millisecond at 133.3 Hz step by 7 and 8 ms in turn: one rate.
+        let text: String = (0..4000)
+            .map(|i| format!("{:.3},1\n", (i as f64 * 7.5).round() / 1000.0))
+            .collect();
+        let even = StaticLog::parse(&format!("{HEAD}t_s,rate_dph\n{text}"));
+        assert!(even.is_ok(), "{:?}", even.err());
+    }
+
+    #[test]
     fn every_bad_log_names_the_line_and_the_column() {
         let cases: &[(&str, usize, &str)] = &[
             ("t_s,rate_dph\n0,1\n", 0, "'format' is missing"),
@@ -249,7 +361,16 @@ mod tests {
                 "not after",
             ),
             ("# format = northfinder-static/1\nt_s,rate_dph\n0,1\n1\n", 4, "1 fields"),
-            ("# format = northfinder-static/1\nt_s,rate_dph\n0,1\n", 0, "1 samples"),
+            (
+                "# format = northfinder-static/1\nt_s,rate_dph\n0,1\n",
+                0,
+                "has 1 sample:",
+            ),
+            (
+                "# format = northfinder-static/1\n# latitude_deg = 95\nt_s,rate_dph\n0,1\n1,2\n",
+                2,
+                "latitude_deg '95' is not a latitude",
+            ),
             (
                 "# format = northfinder-static/1\nt_s,rate_dph,temp_c\n0,1,x\n",
                 3,
