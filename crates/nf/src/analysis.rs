@@ -118,7 +118,7 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         wild,
         out,
     } = plain_holding_out(rec, method, cfg)?;
-    let sigma_inclinometer_deg = tilt.sigma_psi_deg;
+    let (sigma_inclinometer_deg, sensitivity) = (tilt.sigma_psi_deg, tilt.sensitivity);
     let (corrections, shaft, bridged, tilt_warning) = (tilt.corrections, tilt.shaft, tilt.bridged, tilt.warning);
     let used = Recording {
         rows: out_of(&rec.rows, &out),
@@ -131,8 +131,10 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
         .map(|(r, c)| r.rate_dph - c)
         .collect();
     let mut gls = noise_fit::fit(&used, &y, &cfg, &opt.noise, opt.replicates)?;
+    let (sigma_psi, sigma_amplitude) = sensitivity.carried(gls.sigma_psi_deg, gls.sigma_amplitude_dph);
     // The tilt circle is measured apart from the gyro: its uncertainty adds.
-    gls.sigma_psi_deg = gls.sigma_psi_deg.hypot(sigma_inclinometer_deg);
+    gls.sigma_psi_deg = sigma_psi.hypot(sigma_inclinometer_deg);
+    gls.sigma_amplitude_dph = sigma_amplitude;
     let n = fit.n;
     let sigma_gyro_dph = fit.s2.sqrt();
     // With the tilt measured, what is left of it is the inclinometer's uncertainty.

@@ -40,6 +40,39 @@ pub struct Tilt {
     /// method; deg). First order corrects each dwell mean by its own reading, whose noise is
     /// then in the rates and in their residuals.
     pub sigma_psi_deg: f64,
+    /// How the fit's errors carry through the correction's dependence on the fit.
+    pub sensitivity: Sensitivity,
+}
+
+/// How a change of the fitted azimuth and amplitude (deg, deg/h) carries into the result of
+/// the exact correction, which depends on them: `(I - F')^-1`, `F'` the slope of "correct
+/// with them, then fit" (identity without that dependence).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sensitivity(pub [[f64; 2]; 2]);
+
+impl Sensitivity {
+    pub const NONE: Sensitivity = Sensitivity([[1.0, 0.0], [0.0, 1.0]]);
+
+    /// The sigmas (deg, deg/h) of the azimuth and amplitude of a fit of the corrected rates
+    /// (taken as uncorrelated, as over a turn of even steps), carried through the exact
+    /// correction: at a large tilt near the pole the vertical Earth rate the tilt adds scales
+    /// with the fitted amplitude (the gyro's scale factor) as much as the horizontal one, and
+    /// the azimuth is then known far less well than the fit of the corrected rates says.
+    pub fn carried(self, sigma_psi_deg: f64, sigma_amplitude_dph: f64) -> (f64, f64) {
+        let m = self.0;
+        (
+            (m[0][0] * sigma_psi_deg).hypot(m[0][1] * sigma_amplitude_dph),
+            (m[1][0] * sigma_psi_deg).hypot(m[1][1] * sigma_amplitude_dph),
+        )
+    }
+}
+
+/// The exact correction for one tilt circle, solved.
+struct Solution {
+    corrections: Vec<f64>,
+    iterations: u32,
+    psi_deg: f64,
+    sensitivity: Sensitivity,
 }
 
 /// The tilt circle as fitted: its coefficients and the covariance of its first harmonic.
@@ -156,6 +189,7 @@ pub fn correct(
         iterations: 0,
         warning: None,
         sigma_psi_deg: 0.0,
+        sensitivity: Sensitivity::NONE,
     };
     match method {
         TiltMethod::None => Ok(none),
@@ -174,29 +208,29 @@ pub fn correct(
             let read =
                 |r: &crate::recording::Row| r.tilt_x_deg.is_some() || (warning.is_none() && r.tilt_y_deg.is_some());
             let bridged = rec.rows.iter().filter(|r| !read(r)).count();
-            let (corrections, iterations, psi) = solve(lat, &gammas, &c.shaft, &mut fit)?;
-            let sigma_psi_deg = circle_sigma_deg(lat, &gammas, &c, &mut fit, psi);
+            let s = solve(lat, &gammas, &c.shaft, &mut fit)?;
+            let sigma_psi_deg = circle_sigma_deg(lat, &gammas, &c, &mut fit, s.psi_deg);
             Ok(Tilt {
-                corrections,
+                corrections: s.corrections,
                 shaft: Some(c.shaft),
                 bridged,
-                iterations,
+                iterations: s.iterations,
                 warning,
                 sigma_psi_deg,
+                sensitivity: s.sensitivity,
                 ..none
             })
         }
     }
 }
 
-/// The exact correction for the tilt `t`, with the azimuth and amplitude it leaves: its
-/// corrections, the iterations taken and the azimuth (deg).
+/// The exact correction for the tilt `t`, with the azimuth and amplitude it leaves.
 fn solve(
     lat: f64,
     gammas: &[f64],
     t: &ShaftTilt<f64>,
     fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
-) -> Result<(Vec<f64>, u32, f64), String> {
+) -> Result<Solution, String> {
     // Start from first order (the circle's X at each position), then solve the exact model
     // with the fitted azimuth and scale.
     let corr: Vec<f64> = gammas
@@ -214,22 +248,21 @@ fn solve(
         Ok(([wrap_180(p - psi), a - amp], corr))
     };
     // The closest point met, for when rounding keeps the step from the tolerance.
-    let mut closest: Option<(f64, Vec<f64>, f64)> = None;
+    let mut closest: Option<(f64, Vec<f64>, f64, f64)> = None;
     for k in 1..=MAX_ITERATIONS {
         let (g, c) = eval(psi, amp)?;
         if g[0].abs() < PSI_TOL_DEG && g[1].abs() < 1e-12 * amp.abs().max(1e-6) {
-            return Ok((c, k, psi + g[0]));
+            return Ok(Solution {
+                corrections: c,
+                iterations: k,
+                psi_deg: psi + g[0],
+                sensitivity: carried(jacobian(&mut eval, psi, amp, g)?),
+            });
         }
-        if closest.as_ref().is_none_or(|(d, _, _)| g[0].abs() < *d) {
-            closest = Some((g[0].abs(), c, psi + g[0]));
+        if closest.as_ref().is_none_or(|(d, ..)| g[0].abs() < *d) {
+            closest = Some((g[0].abs(), c, psi, amp));
         }
-        let (hp, ha) = (1e-6, 1e-6 * amp.abs().max(1e-3));
-        let (gp, _) = eval(psi + hp, amp)?;
-        let (ga, _) = eval(psi, amp + ha)?;
-        let j = [
-            [(gp[0] - g[0]) / hp, (ga[0] - g[0]) / ha],
-            [(gp[1] - g[1]) / hp, (ga[1] - g[1]) / ha],
-        ];
+        let j = jacobian(&mut eval, psi, amp, g)?;
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         let (dp, da) = if det.is_finite() && det.abs() > 1e-300 {
             (
@@ -243,11 +276,47 @@ fn solve(
         amp = (amp + da).max(1e-9);
     }
     match closest {
-        Some((d, corrections, psi)) if d < NEAR_ENOUGH_DEG => Ok((corrections, MAX_ITERATIONS, psi)),
+        Some((d, corrections, psi, amp)) if d < NEAR_ENOUGH_DEG => {
+            let (g, _) = eval(psi, amp)?;
+            Ok(Solution {
+                corrections,
+                iterations: MAX_ITERATIONS,
+                psi_deg: psi + g[0],
+                sensitivity: carried(jacobian(&mut eval, psi, amp, g)?),
+            })
+        }
         _ => Err(format!(
-            "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations"
+            "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations: at a tilt of {:.2} deg and latitude {lat} deg the vertical Earth rate the tilt adds is {:.2} times the horizontal one, and both scale with the gyro's scale factor, which the exact correction fits: the azimuth and the scale are then hardly separable. --tilt first-order takes the scale as 1",
+            t.tilt_deg,
+            t.tilt_deg.to_radians().sin() * lat.to_radians().tan().abs()
         )),
     }
+}
+
+/// The Jacobian of `G` at `(psi, amp)`, where it is `g`, by differences.
+fn jacobian(
+    eval: &mut impl FnMut(f64, f64) -> Result<([f64; 2], Vec<f64>), String>,
+    psi: f64,
+    amp: f64,
+    g: [f64; 2],
+) -> Result<[[f64; 2]; 2], String> {
+    let (hp, ha) = (1e-6, 1e-6 * amp.abs().max(1e-3));
+    let (gp, _) = eval(psi + hp, amp)?;
+    let (ga, _) = eval(psi, amp + ha)?;
+    Ok([
+        [(gp[0] - g[0]) / hp, (ga[0] - g[0]) / ha],
+        [(gp[1] - g[1]) / hp, (ga[1] - g[1]) / ha],
+    ])
+}
+
+/// `(I - F')^-1 = -G'^-1` from G's Jacobian `j` (`G = F - I`); infinite where G' is singular:
+/// the data then do not fix the azimuth.
+fn carried(j: [[f64; 2]; 2]) -> Sensitivity {
+    let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+    if !det.is_finite() || det == 0.0 {
+        return Sensitivity([[f64::INFINITY; 2]; 2]);
+    }
+    Sensitivity([[-j[1][1] / det, j[0][1] / det], [j[1][0] / det, -j[0][0] / det]])
 }
 
 /// The azimuth's standard deviation (deg) from the circle's own uncertainty: the correction
@@ -269,7 +338,7 @@ fn circle_sigma_deg(
         }
         let moved = c.moved(if k == 0 { h[k] } else { 0.0 }, if k == 1 { h[k] } else { 0.0 });
         match solve(lat, gammas, &moved, fit) {
-            Ok((_, _, p)) => slope[k] = wrap_180(p - psi) / h[k],
+            Ok(s) => slope[k] = wrap_180(s.psi_deg - psi) / h[k],
             // To first order either coefficient turns the azimuth by tan(lat) radians.
             Err(_) => return lat.to_radians().tan().abs() * (0.5 * (c.cov[0][0] + c.cov[1][1])).sqrt().to_degrees(),
         }
@@ -314,4 +383,31 @@ fn bridged_x(rec: &Recording) -> Result<(Vec<f64>, usize), String> {
         })
         .collect();
     Ok((x, missing))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sensitivity_inverts_one_less_the_slope() {
+        // No dependence of the fit on its own result: G' = -I, the sensitivity is I.
+        assert_eq!(carried([[-1.0, 0.0], [0.0, -1.0]]), Sensitivity::NONE);
+        // F' = G' + I; (I - F') times the sensitivity is I.
+        let j = [[-0.3, 0.2], [-1.7, -0.05]];
+        let m = carried(j).0;
+        for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            let p: f64 = (0..2).map(|k| m[r][k] * -j[k][c]).sum();
+            assert!((p - f64::from(u8::from(r == c))).abs() < 1e-12, "{r}{c}: {p}");
+        }
+        // The amplitude's slope near 1 (a tilt of eta with eta tan(lat) = 0.99): the azimuth's
+        // sigma grows with the amplitude's share.
+        let near = carried([[-1.0, 0.5], [0.0, -0.01]]);
+        let (psi, amp) = near.carried(1.0, 1.0);
+        assert!(
+            (psi - 50.0f64.hypot(1.0)).abs() < 1e-9 && (amp - 100.0).abs() < 1e-9,
+            "{psi} {amp}"
+        );
+        assert!(carried([[0.0, 0.0], [0.0, 0.0]]).0[0][0].is_infinite());
+    }
 }

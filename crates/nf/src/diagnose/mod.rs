@@ -41,6 +41,7 @@ pub use select::Finding;
 
 use crate::noise_fit::NoiseChoice;
 use crate::recording::Recording;
+use crate::tilt::Sensitivity;
 use data::Data;
 use model::{Model, summary};
 use nf_model::noise::NoiseModel;
@@ -153,6 +154,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     })?;
     let tilt_warning = tilt.as_ref().and_then(|t| t.warning.clone());
     let tilt_sigma_arcsec = tilt.as_ref().map_or(0.0, |t| t.sigma_psi_deg * 3600.0);
+    let sensitivity = tilt.as_ref().map_or(Sensitivity::NONE, |t| t.sensitivity);
     let y: Vec<f64> = match &tilt {
         Some(t) => d.rate.iter().zip(&t.corrections).map(|(r, c)| r - c).collect(),
         None => d.rate.clone(),
@@ -209,8 +211,6 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
     let mut final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
-    // The tilt circle is measured apart from the gyro: its uncertainty adds.
-    final_.sigma_arcsec = final_.sigma_arcsec.hypot(tilt_sigma_arcsec);
     let s2 = sel.fit.s2();
     let cov: Vec<Vec<f64>> = sel
         .fit
@@ -219,6 +219,9 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         .map(|r| r.iter().map(|c| c * s2).collect())
         .collect();
     let amp = crate::noise_fit::azimuth(&sel.fit.coef, &cov);
+    let (carried, _) = sensitivity.carried(final_.sigma_arcsec / 3600.0, amp.sigma_amplitude_dph);
+    // The tilt circle is measured apart from the gyro: its uncertainty adds.
+    final_.sigma_arcsec = (carried * 3600.0).hypot(tilt_sigma_arcsec);
     let predicted = nf_model::uncertainty::amplitude_dph(rec.latitude_deg);
     let unresolved = crate::noise_fit::unresolved(
         final_.sigma_arcsec / 3600.0,

@@ -9,7 +9,7 @@ use crate::analysis::TiltMethod;
 use crate::linfit;
 use crate::recording::Recording;
 use crate::stats::f_sf;
-use crate::tilt;
+use crate::tilt::{self, Sensitivity};
 
 /// The tilt as measured, ready to be proposed.
 pub struct ShaftTilt {
@@ -23,6 +23,8 @@ pub struct ShaftTilt {
     /// The azimuth's standard deviation (deg) that the circle's uncertainty carries, beside
     /// the gyro's.
     pub sigma_psi_deg: f64,
+    /// How the fit's errors carry through the correction.
+    pub sensitivity: Sensitivity,
 }
 
 impl ShaftTilt {
@@ -77,6 +79,7 @@ impl ShaftTilt {
             corrections: t.corrections,
             warning: t.warning,
             sigma_psi_deg: t.sigma_psi_deg,
+            sensitivity: t.sensitivity,
         }))
     }
 }
