@@ -126,6 +126,38 @@ fn a_bias_jump_is_found_with_its_time_and_size() {
 }
 
 #[test]
+fn beside_a_jump_named_no_walk_or_tail_is_named_for_it() {
+    // Estimated before any effect is known, the noise takes a jump for a walk (and its
+    // whitening makes the step one large innovation, a tail); estimated again with the jump in
+    // the design, it is white, as the twin's is.
+    let (mut jumps, mut with_noise) = (0, 0);
+    for seed in 0..10 {
+        let mut twin = quiet_twin(40 + seed);
+        twin.bias_jump = Some(nf_twin::BiasJump {
+            time_s: 40.0,
+            size_dph: 0.05,
+        });
+        let d = diagnose(&recording(&twin), &Options::default()).unwrap();
+        if d.findings.iter().any(|f| f.effect == Kind::BiasJump) {
+            jumps += 1;
+            let noise: Vec<&str> = d
+                .findings
+                .iter()
+                .filter(|f| f.effect.is_noise())
+                .map(|f| f.effect.name())
+                .collect();
+            if !noise.is_empty() {
+                println!("seed {seed}: {noise:?}, with the jump {:?}", d.noise_with_effects);
+                with_noise += 1;
+            }
+        }
+    }
+    println!("{with_noise} of {jumps} jumps named with a noise term beside");
+    assert!(jumps >= 8, "{jumps} jumps named");
+    assert!(with_noise <= 1, "{with_noise} of {jumps}");
+}
+
+#[test]
 fn of_rival_explanations_the_one_the_averaging_weighs_most_is_named() {
     // An encoder error and a jump together: at the first step both are significant, and the
     // one named must be the one whose model the averaging weighs most.

@@ -238,6 +238,14 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     } else {
         writeln!(out, "     every effect judged under the given model")?;
     }
+    if d.noise_with_effects != d.noise_model {
+        writeln!(
+            out,
+            "     with the named effects in the design (the noise terms below are its): N {:.3e} deg/sqrt(h), {}",
+            d.noise_with_effects.arw_deg_rth,
+            colour_text(&d.noise_with_effects)
+        )?;
+    }
     if d.wander_tested {
         writeln!(
             out,

@@ -93,6 +93,9 @@ pub struct Diagnosis {
     /// The model estimated with a drift in the design, under which drift, jump and
     /// temperature are judged.
     pub drift_model: NoiseModel,
+    /// The model estimated again with the named effects' columns in the design (the first
+    /// model where none was named, or the noise was given): the noise terms named are its.
+    pub noise_with_effects: NoiseModel,
     /// Whether drift, jump, temperature, encoder harmonics and the 2 psi harmonic were also
     /// asked of the wander test (the noise re-estimated with and without each): up to 2000
     /// positions, whether the noise is estimated or given.
@@ -165,20 +168,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let w = &noise.whitener;
     let base = fit_of(&d.rate, w).ok_or("the positions do not determine A cos + B sin + C")?;
     let start = Model::new(d.base_cols(), y, w);
-    let design = Model::new(noise.design.clone(), start.y.clone(), w);
-    let design_fit = design.fit();
-    let tails = design_fit.as_ref().map_or_else(
-        || tails::estimate(&[]),
-        |f| {
-            // The largest held out by its own (whitened) column: the design's columns would
-            // absorb part of a burst and spread the rest over the others, where it reads as a
-            // tail.
-            let i = tails::largest(&f.resid).unwrap_or(0);
-            let held = design.fit_plus(&[w.apply(&d.indicator(i))]);
-            tails::estimate_held_out(&held.map_or_else(|| f.resid.clone(), |h| h.resid), i)
-        },
-    );
-    let rate_resid = design_fit.map(|f| design.raw_residuals(&f)).unwrap_or_default();
+    let (tails, rate_resid) = measured_tails(&d, noise.design.clone(), &start.y, w);
     let mut effects: Vec<Box<dyn Effect>> = vec![
         Box::new(drift::BiasDrift),
         Box::new(jump::BiasJump),
@@ -229,7 +219,30 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         amp.sigma_amplitude_dph,
         predicted,
     );
-    let mut findings = noise::findings(&noise, &tails, &rate_resid, opt.alpha / 2.0);
+    // The noise as it is beside the effects named: what the noise terms and the fix report.
+    let effect_cols: Vec<Vec<f64>> = sel
+        .model
+        .cols
+        .iter()
+        .filter(|c| c.kind.is_some())
+        .map(|c| c.raw.clone())
+        .collect();
+    let after = match opt.noise {
+        NoiseChoice::Estimate if !effect_cols.is_empty() => {
+            noise::with_effects(&d, &sel.model.y, &effect_cols, opt.alpha)
+        }
+        _ => None,
+    };
+    // The tails too: a jump left out is one large step of a walk's whitening, a tail.
+    let (noise_with_effects, terms, tails, rate_resid) = match after {
+        Some(a) => {
+            let w = noise.whitening.of(&a.model)?;
+            let (tails, resid) = measured_tails(&d, a.design, &sel.model.y, &w);
+            (a.model, a.terms, tails, resid)
+        }
+        None => (noise.model, noise.terms.clone(), tails, rate_resid),
+    };
+    let mut findings = noise::findings(&terms, &tails, &rate_resid, opt.alpha / 2.0);
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either, nor
     // white noise: whole dwells that scatter more than their quarters say (shocks) make the
@@ -279,6 +292,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_model: noise.model,
         cautious_model: noise.cautious_model,
         drift_model: noise.drift_model,
+        noise_with_effects,
         wander_tested: noise.wander.is_some(),
         noise_source: noise.source,
         noise_estimated: opt.noise == NoiseChoice::Estimate,
@@ -296,6 +310,21 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         models,
         points,
     })
+}
+
+/// The tails of the rates `y` whitened by `w` about a fit of `design`, and the rates'
+/// residuals (which size the shocks). The largest is held out by its own (whitened) column:
+/// the design's columns would absorb part of a burst and spread the rest over the others,
+/// where it reads as a tail.
+fn measured_tails(d: &Data, design: Vec<Vec<f64>>, y: &[f64], w: &Whitener) -> (tails::Tails, Vec<f64>) {
+    let model = Model::new(design, y.to_vec(), w);
+    let Some(f) = model.fit() else {
+        return (tails::estimate(&[]), Vec::new());
+    };
+    let i = tails::largest(&f.resid).unwrap_or(0);
+    let held = model.fit_plus(&[w.apply(&d.indicator(i))]);
+    let tails = tails::estimate_held_out(&held.map_or_else(|| f.resid.clone(), |h| h.resid), i);
+    (tails, model.raw_residuals(&f))
 }
 
 /// The averaged result with the noise model's own uncertainty added: the selected model is

@@ -31,6 +31,7 @@ const PLAUSIBLE: f64 = 0.5;
 const WANDER_STARTS: usize = 10;
 
 /// A property of the noise the likelihood needs.
+#[derive(Clone)]
 pub struct NoiseTerm {
     pub kind: Kind,
     pub p: f64,
@@ -165,17 +166,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     let (e, with_drift) = (both.next().flatten(), both.next().flatten());
     let e = e.ok_or("the noise could not be estimated from the recording")?;
     // Without the colour the likelihood does not support, which would cost every test power.
-    let (chosen, tests) = e.supported();
-    let model = chosen.model;
-    let terms = tests
-        .into_iter()
-        .filter(|&(_, p)| p < alpha / Term::ALL.len() as f64)
-        .map(|(term, p)| NoiseTerm {
-            kind: kind_of(term),
-            p,
-            parameters: allan_parameters(&model, &e.grid, chosen.loglik),
-        })
-        .collect();
+    let (model, terms) = supported(&e, alpha);
     let cautious_model = most_coloured(d, &e, model);
     // The most likely model with a drift in the design. Its upper bound would be too
     // cautious: beyond a curve, a modest random walk is hard to exclude. Flicker and walk
@@ -229,6 +220,64 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         design: cols,
         whitening,
     })
+}
+
+/// The model the likelihood supports, and its colour terms significant at `alpha` (over the
+/// three) as findings.
+fn supported(e: &noise_est::Estimate, alpha: f64) -> (NoiseModel, Vec<NoiseTerm>) {
+    let (chosen, tests) = e.supported();
+    let model = chosen.model;
+    let terms = tests
+        .into_iter()
+        .filter(|&(_, p)| p < alpha / Term::ALL.len() as f64)
+        .map(|(term, p)| NoiseTerm {
+            kind: kind_of(term),
+            p,
+            parameters: allan_parameters(&model, &e.grid, chosen.loglik),
+        })
+        .collect();
+    (model, terms)
+}
+
+/// The noise estimated again once the selection is done, with the named effects' columns in
+/// the design: the first estimate, before any effect was known, sees a jump or a drift as
+/// wander, and its colour terms would name a random walk beside the jump that made it. `None`
+/// where the estimate fails (the first one then stands).
+pub fn with_effects(d: &Data, y: &[f64], effects: &[Vec<f64>], alpha: f64) -> Option<AfterEffects> {
+    let mut cols = design(d);
+    for c in effects {
+        if cols.len() < d.n() / 3 && independent(&cols, c) {
+            cols.push(c.clone());
+        }
+    }
+    let robust = with_bursts_held_out(d, &cols, y);
+    let (dwell_s, _) = dwell_of(&d.rec);
+    let quarters: Vec<[f64; 4]> = d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    let thinned = Thinned::new(&d.t, y, &[&robust]);
+    let e = noise_est::estimate(
+        noise_est::Data {
+            t_s: &thinned.t_s,
+            dwell_s,
+            cols: &thinned.designs[0],
+            y: &thinned.y,
+            quarters: &quarters,
+        },
+        noise_est::Colours::WithGaussMarkov,
+    )?;
+    let (model, terms) = supported(&e, alpha);
+    Some(AfterEffects {
+        model,
+        terms,
+        design: cols,
+    })
+}
+
+/// The noise estimated with the named effects in the design.
+pub struct AfterEffects {
+    pub model: NoiseModel,
+    pub terms: Vec<NoiseTerm>,
+    /// The design it was estimated with (the effects that add to it), for the tails.
+    pub design: Vec<Vec<f64>>,
 }
 
 /// The flicker and walk models of the grid that carry at least 1 % of the best one's
@@ -328,14 +377,13 @@ pub const SHOCK_RMS: &str = "shock_rms_dph";
 
 /// The noise terms and the tails as findings, first in the list.
 /// `rate_resid`, the rates' residuals of the fit the tails were judged on, size the shocks.
-pub fn findings(noise: &Noise, tails: &Tails, rate_resid: &[f64], level: f64) -> Vec<Finding> {
+pub fn findings(terms: &[NoiseTerm], tails: &Tails, rate_resid: &[f64], level: f64) -> Vec<Finding> {
     let after = Summary {
         azimuth_deg: f64::NAN,
         rss: f64::NAN,
         sigma_arcsec: f64::NAN,
     };
-    let mut out: Vec<Finding> = noise
-        .terms
+    let mut out: Vec<Finding> = terms
         .iter()
         .map(|t| Finding {
             effect: t.kind,

@@ -295,7 +295,7 @@ pub fn moments(
         let how = if noise_of(diag) == diag.noise_model {
             ""
         } else {
-            ", made with the drift in the design"
+            ", made with the named effects in the design"
         };
         notes.push(format!("noise: the recording's estimate ({}{how})", diag.noise_source));
     }

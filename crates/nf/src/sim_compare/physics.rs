@@ -140,18 +140,10 @@ fn agrees(kind: Kind, p: &Param, found: &[Param], sim: f64) -> bool {
     (p.value - sim).abs() <= tol
 }
 
-/// The recording's noise: the estimate made with a drift in the design when the diagnosis
-/// found the bias moving, as a strong drift otherwise passes for a random walk.
+/// The recording's noise: the estimate made with the named effects in the design, as a
+/// strong drift or jump otherwise passes for a random walk.
 pub fn noise_of(diag: &Diagnosis) -> NoiseModel {
-    if diag
-        .findings
-        .iter()
-        .any(|f| matches!(f.effect, Kind::BiasDrift | Kind::BiasJump))
-    {
-        diag.drift_model
-    } else {
-        diag.noise_model
-    }
+    diag.noise_with_effects
 }
 
 /// A noise term of the recording's noise model: `None` when the model has none of it.

@@ -116,6 +116,9 @@ struct NoiseModelJson<'a> {
     source: &'a str,
     /// The model estimated with a drift: drift, jump and temperature are judged under it.
     with_drift: ColouredJson,
+    /// The model estimated again with the named effects in the design: the noise terms named
+    /// are its, and `--fix` writes it.
+    with_effects: ColouredJson,
     /// Whether drift, jump, temperature, encoder harmonics and the 2 psi harmonic were also
     /// judged with the noise re-estimated with and without each (a likelihood ratio; named
     /// only when both tests find them).
@@ -189,6 +192,7 @@ pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -
             rrw_dph_rth: m.rrw_dph_rth,
             source: &d.noise_source,
             with_drift: (&d.drift_model).into(),
+            with_effects: (&d.noise_with_effects).into(),
             wander_tested: d.wander_tested,
         },
         not_resolved_because: d.unresolved.as_deref(),
