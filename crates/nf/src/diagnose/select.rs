@@ -77,11 +77,15 @@ impl<'a> Selector<'a> {
                 }
                 if let Change::Columns(cols) = &alt.change {
                     let m = model.with(Some(alt.kind), cols.clone(), w);
-                    variants.push(variant(
-                        &format!("{} instead", alt.kind.name()),
-                        &m,
-                        scanned + alt.scanned,
-                    ));
+                    meet(
+                        &mut variants,
+                        false,
+                        variant(
+                            &format!("{} instead of {}", alt.kind.name(), chosen.kind.name()),
+                            &m,
+                            scanned + alt.scanned,
+                        ),
+                    );
                 }
             }
             model = match &chosen.change {
@@ -98,7 +102,7 @@ impl<'a> Selector<'a> {
                     .chain([chosen.kind.name()])
                     .collect::<Vec<_>>()
                     .join(" + ");
-                variants.push(variant(&label, &model, scanned));
+                meet(&mut variants, true, variant(&label, &model, scanned));
             }
             absorb(&mut findings, chosen, summary(&fit));
         }
@@ -194,6 +198,19 @@ impl<'a> Selector<'a> {
     }
 }
 
+/// Adds a model the selection met, once: an effect that adds no column (the tilt, corrected
+/// beforehand) leaves the model as it was, so its rival at that step is the next step's
+/// chain, and counted twice it would weigh twice in the average. The chain's label is kept.
+fn meet(variants: &mut Vec<Variant>, chain: bool, v: Variant) {
+    let holds = |a: &Model, b: &Model| b.cols.iter().all(|c| a.cols.iter().any(|d| d.raw == c.raw));
+    let same = |a: &Model, b: &Model| a.y == b.y && a.cols.len() == b.cols.len() && holds(a, b) && holds(b, a);
+    match variants.iter_mut().find(|w| same(&w.model, &v.model)) {
+        Some(w) if chain => w.label = v.label,
+        Some(_) => {}
+        None => variants.push(v),
+    }
+}
+
 fn variant(label: &str, model: &Model, scanned: usize) -> Variant {
     Variant {
         label: label.into(),
@@ -219,4 +236,34 @@ fn absorb(findings: &mut Vec<Finding>, c: Proposal, after: Summary) {
         location: c.location,
         after,
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_model_met_twice_is_kept_once_under_the_chains_label() {
+        let w = Whitener::identity();
+        let base = Model::new(vec![vec![1.0; 6], (0..6).map(f64::from).collect()], vec![1.0; 6], &w);
+        let step: Vec<f64> = (0..6).map(|i| f64::from(u8::from(i >= 3))).collect();
+        let jump = base.with(Some(Kind::BiasJump), vec![step.clone()], &w);
+        let mut met = Vec::new();
+        meet(&mut met, true, variant("Eq. 7", &base, 0));
+        meet(&mut met, false, variant("bias_jump instead of shaft_tilt", &jump, 1));
+        // The tilt adds no column: the next step's chain is the same model.
+        meet(&mut met, true, variant("shaft_tilt + bias_jump", &jump, 1));
+        assert_eq!(
+            met.iter().map(|v| v.label.as_str()).collect::<Vec<_>>(),
+            ["Eq. 7", "shaft_tilt + bias_jump"]
+        );
+        // A step elsewhere is another model.
+        let other: Vec<f64> = (0..6).map(|i| f64::from(u8::from(i >= 2))).collect();
+        meet(
+            &mut met,
+            false,
+            variant("a", &base.with(Some(Kind::BiasJump), vec![other], &w), 1),
+        );
+        assert_eq!(met.len(), 3);
+    }
 }
