@@ -95,8 +95,15 @@ impl InstrumentFile {
     pub fn parse(text: &str) -> Result<Self, Error> {
         let f: InstrumentFile = toml::from_str(text).map_err(|e| {
             let line = e.span().map_or(0, |s| line_at(text, s.start));
-            let what = e.message().trim().to_string();
+            let mut what = e.message().trim().to_string();
             let at = text.lines().nth(line.saturating_sub(1)).unwrap_or("").trim();
+            // In TOML a key after `[table]` belongs to that table.
+            if ["format", "seed"]
+                .iter()
+                .any(|k| what.starts_with(&format!("unknown field `{k}`")))
+            {
+                what += "; `format` and `seed` go before the first [table]";
+            }
             Error {
                 line,
                 what: if line == 0 { what } else { format!("`{at}`: {what}") },

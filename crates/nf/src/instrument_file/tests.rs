@@ -223,6 +223,10 @@ fn three_encoder_terms_and_a_wrong_format_are_refused() {
     let e = parse_err("format = \"northfinder-recording/1\"\n");
     assert_eq!(e.line, 1);
     assert!(parse_err("seed = 2\n").what.contains("format is missing"));
+    // After a table, `format` is that table's key.
+    let late = parse_err("[site]\nlatitude_deg = 45\nformat = \"northfinder-instrument/1\"\n");
+    assert_eq!(late.line, 3);
+    assert!(late.what.contains("go before the first [table]"), "{late}");
 }
 
 #[test]
