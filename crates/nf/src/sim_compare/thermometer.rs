@@ -67,8 +67,24 @@ pub fn fit(temp: &[(f64, f64)]) -> Option<TempFit> {
     let (swing, rss_swing) = fit_at(temp, Some(period((a + b) / 2.0)))?;
     let dof = (n - 4) as f64;
     let f = (ramp.1 - rss_swing) / 3.0 / (rss_swing / dof);
-    let kept = rss_swing <= 0.0 || f_sf(f, 3.0, dof) < SWING_P;
-    Some(if kept && swing.swing.is_some() { swing } else { ramp.0 })
+    // Readings written to a resolution (a thousandth of a degree) leave a rounding error that
+    // a ramp sampled at even spacings turns into a periodic pattern: a swing smaller than that
+    // resolution is the rounding's, not the heater's.
+    let above_resolution = swing.swing.is_some_and(|s| s.amplitude_c > resolution(temp));
+    let kept = (rss_swing <= 0.0 || f_sf(f, 3.0, dof) < SWING_P) && above_resolution;
+    Some(if kept { swing } else { ramp.0 })
+}
+
+/// The smallest step between two distinct readings: their resolution where they were written
+/// to one, else finer than any swing.
+fn resolution(temp: &[(f64, f64)]) -> f64 {
+    let mut v: Vec<f64> = temp.iter().map(|p| p.1).collect();
+    v.sort_by(f64::total_cmp);
+    v.windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 1e-12)
+        .fold(f64::INFINITY, f64::min)
+        .min(f64::MAX)
 }
 
 /// The least-squares fit with the swing at `period` (none: the ramp alone), and its residual
@@ -147,6 +163,20 @@ mod tests {
         };
         let f = fit(&readings(Some(truth), 7)).unwrap();
         assert!(f.swing.is_some() && f.rms_c < 0.015, "{f:?}");
+    }
+
+    #[test]
+    fn a_ramp_written_to_a_thousandth_gets_no_swing_from_its_rounding() {
+        // 0.02 C/s read every 2.496 s and written to 0.001 C (a twin recording's): the
+        // rounding error is a sawtooth of 12.5 readings, which the swing's search found.
+        let temp: Vec<(f64, f64)> = (0..72)
+            .map(|i| {
+                let t = 5.383 + 2.496 * i as f64;
+                (t, ((40.1033 + 0.02 * t) * 1000.0).round() / 1000.0)
+            })
+            .collect();
+        let f = fit(&temp).unwrap();
+        assert!(f.swing.is_none(), "{f:?}");
     }
 
     #[test]
