@@ -147,6 +147,10 @@ pub fn eq31_exact(n: u32) -> f64 {
     )
 }
 
+/// Section 4's reading of Fig. 6a: sigma_w (deg/h), and the azimuth uncertainty (arcsec) it
+/// states at n = 70 and n = 240.
+const STATED_FIG6: [(f64, f64, f64); 2] = [(0.005, 15.0, 10.0), (0.001, 3.0, 2.0)];
+
 /// Every place where the paper disagrees with its own tables or with the physics.
 pub fn findings() -> Vec<String> {
     let mut f = Vec::new();
@@ -195,6 +199,16 @@ pub fn findings() -> Vec<String> {
             f.push(format!(
                 "Eq. 31 at n = {n}: the paper states {stated}\", its own Eq. 24, 26 and 30 give {p:.1}\" (exact model: {:.1}\")",
                 eq31_exact(n)
+            ));
+        }
+    }
+    // Section 4 reads Fig. 6a: "from 15 (n = 70) to 10 arc second (n = 240)" at 0.005 deg/h,
+    // "from 3 to 2" at 0.001.
+    for (sigma_w, at_70, at_240) in STATED_FIG6 {
+        let (a, b) = (eq24_arcsec(70, sigma_w, LAT), eq24_arcsec(240, sigma_w, LAT));
+        if (a - at_70).abs() / at_70 > 0.1 || (b - at_240).abs() / at_240 > 0.1 {
+            f.push(format!(
+                "Section 4 (Fig. 6a) at sigma_w = {sigma_w} deg/h: the text reads {at_70}\" at n = 70 and {at_240}\" at n = 240, its Eq. 24 gives {a:.1}\" and {b:.1}\""
             ));
         }
     }
@@ -258,6 +272,28 @@ mod tests {
             f.iter()
                 .any(|s| s.starts_with("Table 4: the stated standard deviation"))
         );
+    }
+
+    #[test]
+    fn section_4_reads_fig_6a_loosely_at_n_240() {
+        // Eq. 24: sqrt(2 / n) sigma_w / (WE cos(lat)), in arcsec.
+        let by_hand = |n: f64, s: f64| (2.0 / n).sqrt() * s / (15.041 * 43.8f64.to_radians().cos()) * 206_264.8;
+        let f = findings();
+        let line = f
+            .iter()
+            .find(|s| s.contains("sigma_w = 0.005"))
+            .expect("0.005 deg/h listed");
+        assert!(
+            line.contains(&format!(
+                "{:.1}\" and {:.1}\"",
+                by_hand(70.0, 0.005),
+                by_hand(240.0, 0.005)
+            )),
+            "{line}"
+        );
+        assert!(line.contains("8.7\""), "{line}");
+        // At 0.001 deg/h: 3.2" and 1.7" against 3" and 2" (15 % at n = 240).
+        assert!(f.iter().any(|s| s.contains("sigma_w = 0.001")));
     }
 
     #[test]
