@@ -209,14 +209,14 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         .map(|r| r.iter().map(|c| c * s2).collect())
         .collect();
     let amp = crate::noise_fit::azimuth(&sel.fit.coef, &cov);
-    let (carried, _) = sensitivity.carried(final_.sigma_arcsec / 3600.0, amp.sigma_amplitude_dph);
+    let (carried, sigma_amplitude) = sensitivity.carried(final_.sigma_arcsec / 3600.0, amp.sigma_amplitude_dph);
     // The tilt circle is measured apart from the gyro: its uncertainty adds.
     final_.sigma_arcsec = (carried * 3600.0).hypot(tilt_sigma_arcsec);
     let predicted = nf_model::uncertainty::amplitude_dph(rec.latitude_deg);
     let unresolved = crate::noise_fit::unresolved(
         final_.sigma_arcsec / 3600.0,
         amp.amplitude_dph,
-        amp.sigma_amplitude_dph,
+        sigma_amplitude,
         predicted,
     );
     // The noise as it is beside the effects named: what the noise terms and the fix report.
