@@ -203,6 +203,12 @@ impl Recording {
                 Some(s) if s < 0.0 || s.fract() != 0.0 => return err(n, format!("samples {s} is not a count")),
                 s => s.map(|s| s as u32),
             };
+            if samples == Some(0) {
+                warnings.push(Error {
+                    line: n,
+                    what: "samples is 0: rate_dph is the mean of no samples; used as given".into(),
+                });
+            }
             let rate_sd_dph = optional("rate_sd_dph")?;
             if rate_sd_dph.is_some_and(|s| s < 0.0) {
                 return err(n, "rate_sd_dph is negative");

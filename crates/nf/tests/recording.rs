@@ -63,6 +63,16 @@ fn empty_or_nan_optional_cells_are_missing_values() {
     );
     let full = Recording::parse(GOOD).unwrap();
     assert!(full.warnings.is_empty(), "{:?}", full.warnings);
+    // A dwell mean of no samples is kept, and said.
+    let none = Recording::parse(
+        "# format = northfinder-recording/1\n# latitude_deg = 10\nindex,t_s,encoder_deg,rate_dph,samples\n0,1,0,2.5,100\n1,2,90,1,0\n",
+    )
+    .unwrap();
+    let said: Vec<(usize, &str)> = none.warnings.iter().map(|w| (w.line, w.what.as_str())).collect();
+    assert_eq!(
+        said,
+        [(5, "samples is 0: rate_dph is the mean of no samples; used as given")]
+    );
 }
 
 fn error(text: &str) -> (usize, String) {
