@@ -149,20 +149,8 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     // under which a drift or a jump is judged (below).
     let mut drifting = robust.clone();
     drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
-    let thinned = Thinned::new(&d.t, y, &[&robust, &drifting]);
-    let every = thinned.every;
-    let mut both = noise_est::estimate_all(
-        noise_est::Data {
-            t_s: &thinned.t_s,
-            dwell_s,
-            cols: &thinned.designs[0],
-            y: &thinned.y,
-            quarters: &quarters,
-        },
-        &[&thinned.designs[1]],
-        noise_est::Colours::WithGaussMarkov,
-    )
-    .into_iter();
+    let (both, every) = estimates(d, y, dwell_s, &quarters, &[&robust, &drifting]);
+    let mut both = both.into_iter();
     let (e, with_drift) = (both.next().flatten(), both.next().flatten());
     let e = e.ok_or("the noise could not be estimated from the recording")?;
     // Without the colour the likelihood does not support, which would cost every test power.
@@ -204,7 +192,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         source: format!(
             "estimated from the recording (REML on {} dwell means in time order{}, {} dof)",
             if every > 1 {
-                format!("{} of the {n} (one in {every})", thinned.t_s.len())
+                format!("{} of the {n} (one in {every})", n.div_ceil(every))
             } else {
                 n.to_string()
             },
@@ -220,6 +208,31 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         design: cols,
         whitening,
     })
+}
+
+/// The REML estimate of `y` under each of `designs` (white noise with flicker and walk, or a
+/// Gauss-Markov bias), from one dwell mean in `every` past `THINNED` positions, and `every`.
+fn estimates(
+    d: &Data,
+    y: &[f64],
+    dwell_s: f64,
+    quarters: &[[f64; 4]],
+    designs: &[&[Vec<f64>]],
+) -> (Vec<Option<noise_est::Estimate>>, usize) {
+    let thinned = Thinned::new(&d.t, y, designs);
+    let more: Vec<&[Vec<f64>]> = thinned.designs[1..].iter().map(Vec::as_slice).collect();
+    let e = noise_est::estimate_all(
+        noise_est::Data {
+            t_s: &thinned.t_s,
+            dwell_s,
+            cols: &thinned.designs[0],
+            y: &thinned.y,
+            quarters,
+        },
+        &more,
+        noise_est::Colours::WithGaussMarkov,
+    );
+    (e, thinned.every)
 }
 
 /// The model the likelihood supports, and its colour terms significant at `alpha` (over the
@@ -253,18 +266,8 @@ pub fn with_effects(d: &Data, y: &[f64], effects: &[Vec<f64>], alpha: f64) -> Op
     let robust = with_bursts_held_out(d, &cols, y);
     let (dwell_s, _) = dwell_of(&d.rec);
     let quarters: Vec<[f64; 4]> = d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
-    let thinned = Thinned::new(&d.t, y, &[&robust]);
-    let e = noise_est::estimate(
-        noise_est::Data {
-            t_s: &thinned.t_s,
-            dwell_s,
-            cols: &thinned.designs[0],
-            y: &thinned.y,
-            quarters: &quarters,
-        },
-        noise_est::Colours::WithGaussMarkov,
-    )?;
-    let (model, terms) = supported(&e, alpha);
+    let (mut e, _) = estimates(d, y, dwell_s, &quarters, &[&robust]);
+    let (model, terms) = supported(&e.pop().flatten()?, alpha);
     Some(AfterEffects {
         model,
         terms,
