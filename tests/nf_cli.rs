@@ -631,7 +631,7 @@ fn log_turns_a_defmt_log_into_the_same_recording() {
     assert!(err.contains("holds 2 run(s)"), "{err}");
     std::fs::write(&path, "INFO  nothing recorded here\n").unwrap();
     let (code, _, err) = nf(&["log", &path]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2);
     assert!(err.contains("no 'rec' lines"), "{err}");
 }
 

@@ -62,17 +62,16 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
     assert_eq!(code, 2);
 }
 
-/// A gyro the converter cannot hold: the run fails as the firmware would, and the message
-/// names the term and the largest value of it that fits; the largest fits indeed.
+/// A gyro the converter cannot hold: a quantisation step beyond its range is refused before
+/// the run (bad input), noise that saturates it fails the run as the firmware would; each
+/// message names the term and the largest value of it that fits, and the largest fits indeed.
 #[test]
 fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
     let out = tmp("sat.csv");
     let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", "0.5", "-o", &out]);
-    assert_eq!(code, 1, "{err}");
-    assert!(
-        err.contains("ADC sat at full scale") && err.contains("0 positions written"),
-        "{err}"
-    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cannot be read by the ADC"), "{err}");
+    assert!(!std::path::Path::new(&out).exists(), "a recording was written");
     let q = err
         .split("a quantisation Q of at most ")
         .nth(1)
@@ -81,6 +80,15 @@ fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
     assert!(!err.contains("white noise of at most"), "{err}");
     let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", q, "-o", &out]);
     assert_eq!(code, 0, "Q = {q}: {err}");
+    // 95 deg/h of white noise in one sample at 1 kHz against +-50 deg/h.
+    let (code, _, err) = nf(&["simulate", "--n", "12", "--arw", "0.05", "-o", &out]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("ADC sat at full scale")
+            && err.contains("0 positions written")
+            && err.contains("Gaussian white noise of at most"),
+        "{err}"
+    );
 }
 
 #[test]

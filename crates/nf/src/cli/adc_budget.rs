@@ -48,6 +48,13 @@ impl AdcBudget {
         }
     }
 
+    /// Whether every sample must saturate the ADC, whatever the noise draws: the steady rate
+    /// alone fills the full scale, or one quantisation step is beyond what is left.
+    pub fn always_saturates(&self) -> bool {
+        let room = self.full_scale_dph - self.steady_dph;
+        room <= 0.0 || self.quant_step_dph > room
+    }
+
     /// The budget in words, and which term leaves no room.
     pub fn explain(&self) -> String {
         let tails = if self.student_t_dof > 0.0 {
@@ -80,12 +87,12 @@ impl AdcBudget {
         if self.quant_step_dph > room {
             // A step of `room` deg/h over one period is `room / rate` arcsec, Q sqrt(12).
             let q = room / self.sample_rate_hz / 12f64.sqrt();
-            fits.push(format!("a quantisation Q of at most {q:.3e} arcsec"));
+            fits.push(format!("a quantisation Q of at most {} arcsec", at_most(q)));
         }
         if NOISE_SDS * self.white_sd_dph > room || self.student_t_dof > 0.0 {
             // sd = 60 N sqrt(rate), N in deg/sqrt(h).
             let n = room / NOISE_SDS / 60.0 / self.sample_rate_hz.sqrt();
-            fits.push(format!("Gaussian white noise of at most {n:.3e} deg/sqrt(h)"));
+            fits.push(format!("Gaussian white noise of at most {} deg/sqrt(h)", at_most(n)));
         }
         if NOISE_SDS * self.shock_sd_dph > room {
             let shock = room / NOISE_SDS;
@@ -97,6 +104,13 @@ impl AdcBudget {
             s + &format!("; {} fit at this sample rate", fits.join(", "))
         }
     }
+}
+
+/// `x` in four significant digits rounded down, so that the value printed as the largest
+/// that fits does fit.
+fn at_most(x: f64) -> String {
+    let unit = 10f64.powi(x.log10().floor() as i32 - 3);
+    format!("{:.3e}", (x / unit).floor() * unit)
 }
 
 #[cfg(test)]
@@ -112,13 +126,13 @@ mod tests {
         assert!((b.quant_step_dph - 1732.05).abs() < 0.01, "{b:?}");
         assert!((b.full_scale_dph - 50.0).abs() < 1e-6, "{b:?}");
         let room = 50.0 - b.steady_dph;
+        // 1.0005e-2, printed below it.
         let q = room / 1000.0 / 12f64.sqrt();
         let text = b.explain();
-        assert!(
-            text.contains(&format!("a quantisation Q of at most {q:.3e} arcsec")),
-            "{text}"
-        );
+        assert!((q - 1.0005e-2).abs() < 1e-6, "{q}");
+        assert!(text.contains("a quantisation Q of at most 1.000e-2 arcsec"), "{text}");
         assert!(!text.contains("white noise of at most"), "{text}");
+        assert!(b.always_saturates());
     }
 
     #[test]
@@ -156,6 +170,7 @@ mod tests {
     #[test]
     fn a_quiet_gyro_leaves_the_blame_on_the_input() {
         let b = AdcBudget::of(&TwinConfig::default());
+        assert!(!b.always_saturates());
         let text = b.explain();
         assert!(
             text.ends_with("went beyond") && !text.contains("quantisation"),

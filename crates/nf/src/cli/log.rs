@@ -97,7 +97,7 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
     if log.rec.is_empty() {
         return Err(Fail(
             format!("{}: no 'rec' lines: is this the firmware's defmt log?", a.log),
-            1,
+            2,
         ));
     }
     // Check it as any reader would, with the log's line numbers; a log cut short still gives

@@ -216,6 +216,13 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
         write_out(&Some(p.clone()), &file.write(&[]))?;
     }
     let twin = file.twin();
+    let budget = AdcBudget::of(&twin);
+    if budget.always_saturates() {
+        return Err(Fail(
+            format!("this gyro cannot be read by the ADC: {}", budget.explain()),
+            2,
+        ));
+    }
     let run = file.run_config();
     let psi = file.site.azimuth_deg;
     let mut rec = Recorder::default();
