@@ -140,6 +140,19 @@ fn agrees(kind: Kind, p: &Param, found: &[Param], sim: f64) -> bool {
     (p.value - sim).abs() <= tol
 }
 
+/// The verdict on a finding of the recording against the file's `sim`. A finding is
+/// significant: a file without the term lacks it, whatever range of sizes the finding's
+/// profile allows (a noise term's can reach down to none).
+fn verdict(kind: Kind, p: &Param, found: &[Param], sim: f64) -> Verdict {
+    if sim == 0.0 {
+        Verdict::Missing
+    } else if agrees(kind, p, found, sim) {
+        Verdict::Modelled
+    } else {
+        Verdict::Different
+    }
+}
+
 /// The recording's noise: the estimate made with the named effects in the design, as a
 /// strong drift or jump otherwise passes for a random walk.
 pub fn noise_of(diag: &Diagnosis) -> NoiseModel {
@@ -203,13 +216,7 @@ pub fn judge(
             let found = noise_term(f.effect, diag, f)?;
             let (name, sim) = simulated(f.effect, &found, file, rec, dwell_s, origin_s)?;
             let p = param(&found, name)?.clone();
-            let verdict = if agrees(f.effect, &p, &found, sim) {
-                Verdict::Modelled
-            } else if sim == 0.0 {
-                Verdict::Missing
-            } else {
-                Verdict::Different
-            };
+            let verdict = verdict(f.effect, &p, &found, sim);
             Some(Physics {
                 kind: f.effect,
                 verdict,
@@ -241,4 +248,27 @@ pub fn judge(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_term_found_is_missing_from_a_file_without_it_even_where_its_range_reaches_none() {
+        let at = |name: &str, value: f64| Param {
+            name: name.into(),
+            value,
+            sigma: None,
+        };
+        let found = [
+            at("gm_sigma_dph", 0.016),
+            at("gm_sigma_dph_lo", 0.0),
+            at("gm_sigma_dph_hi", 0.03),
+        ];
+        let v = |sim: f64| verdict(Kind::CorrelatedNoise, &found[0], &found, sim);
+        assert_eq!(v(0.0), Verdict::Missing);
+        assert_eq!(v(0.02), Verdict::Modelled);
+        assert_eq!(v(0.1), Verdict::Different);
+    }
 }
