@@ -305,6 +305,50 @@ fn cli_json_plot_and_the_noise_file_round_trip() {
     );
 }
 
+/// One fill value of -9999 in an hour at 10 Hz: left out and named by its line, N as from
+/// the clean log; kept (`--keep-spikes`), N many times too large.
+#[test]
+fn a_spike_is_left_out_and_named_by_its_line() {
+    let truth = NoiseModel {
+        arw_deg_rth: 0.002,
+        bias_instability_dph: 0.02,
+        ..NoiseModel::WHITE_NONE
+    };
+    let mut text = Vec::new();
+    twin_log(truth, 10.0, 1.0, 5).write(&mut text).unwrap();
+    let text = String::from_utf8(text).unwrap();
+    // Line 20005: four header lines, then the 20001st sample.
+    let spiked: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i + 1 {
+            20005 => format!("{},-9999\n", l.split(',').next().unwrap()),
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    let log = tmp("spiked.csv");
+    std::fs::write(&log, spiked).unwrap();
+    let arw = |args: &[&str]| {
+        let (code, out, err) = nf(args);
+        assert_eq!(code, 0, "{err}");
+        let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let notes: Vec<String> = j["source"]["notes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap().to_string())
+            .collect();
+        (j["arw_deg_rth"].as_f64().unwrap(), notes.join("; "))
+    };
+    let (n, notes) = arw(&["allan", &log, "--json"]);
+    assert!((n / 0.002 - 1.0).abs() < 0.1, "N {n}: {notes}");
+    assert!(notes.contains("spike at line 20005: rate_dph -9999"), "{notes}");
+    assert!(notes.contains("left out"), "{notes}");
+    let (kept, notes) = arw(&["allan", &log, "--json", "--keep-spikes"]);
+    assert!(kept > 10.0 * 0.002, "N {kept}: {notes}");
+    assert!(notes.contains("kept (--keep-spikes)"), "{notes}");
+}
+
 /// Exit code 2, nothing on stdout, and the message names the place.
 fn refused(args: &[&str], place: &str, what: &str) {
     let (code, out, err) = nf(args);

@@ -8,6 +8,7 @@ use crate::allan_model::Sampling;
 use crate::linfit;
 use crate::noise_fit::dwell_of;
 use crate::recording::{self, Recording};
+use crate::spikes;
 use crate::static_log::{self, GAP_FACTOR, Spacing, StaticLog};
 use crate::textfile::{Error, Head, err, short};
 
@@ -39,11 +40,12 @@ pub struct Source {
 
 impl Source {
     /// Reads either format, told apart by its `format` metadata; `sample_rate_hz` overrides
-    /// the step the time column gives.
-    pub fn parse(text: &str, sample_rate_hz: Option<f64>) -> Result<Source, Error> {
+    /// the step the time column gives. A static log's spikes are left out unless
+    /// `keep_spikes`.
+    pub fn parse(text: &str, sample_rate_hz: Option<f64>, keep_spikes: bool) -> Result<Source, Error> {
         let head = Head::parse(text)?;
         let src = match head.meta.get("format").map(String::as_str) {
-            Some(static_log::FORMAT) => from_static(StaticLog::parse(text)?, sample_rate_hz),
+            Some(static_log::FORMAT) => from_static(StaticLog::parse(text)?, sample_rate_hz, keep_spikes),
             Some(recording::FORMAT) => from_recording(&Recording::parse(text)?, sample_rate_hz)?,
             other => {
                 let what = other.map_or_else(
@@ -133,7 +135,7 @@ fn gap_notes(spacing: &Spacing, notes: &mut Vec<String>) {
     }
 }
 
-fn from_static(log: StaticLog, override_hz: Option<f64>) -> Source {
+fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> Source {
     let mut notes = Vec::new();
     let meta_rate = log.meta.get("sample_rate_hz").and_then(|v| v.parse().ok());
     let step = step_of(&log.spacing, meta_rate, override_hz, &mut notes);
@@ -141,12 +143,46 @@ fn from_static(log: StaticLog, override_hz: Option<f64>) -> Source {
     if let Some((lo, hi)) = log.temp_span_c {
         notes.push(format!("temp_c from {lo} to {hi} C"));
     }
+    let found = spikes::find(&log.rate_dph, &log.spacing.segments);
+    spike_notes(&found, &log, keep_spikes, &mut notes);
+    let mut spacing = log.spacing;
+    if !keep_spikes {
+        spacing.segments = spikes::split(&spacing.segments, &found);
+    }
     Source {
         kind: Kind::StaticLog,
         rates: log.rate_dph,
-        spacing: log.spacing,
+        spacing,
         sampling: Sampling::contiguous(step),
         notes,
+    }
+}
+
+/// Spikes listed one by one up to this many.
+const SPIKES_LISTED: usize = 10;
+
+fn spike_notes(found: &[spikes::Spike], log: &StaticLog, kept: bool, notes: &mut Vec<String>) {
+    for s in found.iter().take(SPIKES_LISTED) {
+        notes.push(format!(
+            "spike at line {}: rate_dph {} is {:.0} robust sigmas off its neighbours or the log",
+            log.lines[s.index],
+            short(log.rate_dph[s.index]),
+            s.sigmas
+        ));
+    }
+    if found.len() > SPIKES_LISTED {
+        notes.push(format!("and {} more spikes", found.len() - SPIKES_LISTED));
+    }
+    if !found.is_empty() {
+        notes.push(if kept {
+            format!("the {} spikes are kept (--keep-spikes)", found.len())
+        } else {
+            format!(
+                "the {} spikes (beyond {} robust sigmas: no gyro noise) are left out, the log split at each; --keep-spikes keeps them",
+                found.len(),
+                spikes::SIGMAS
+            )
+        });
     }
 }
 
@@ -215,13 +251,13 @@ mod tests {
         for i in 0..100 {
             s += &format!("{},{}\n", i as f64 * 0.1, (i % 3) as f64);
         }
-        let src = Source::parse(&s, None).unwrap();
+        let src = Source::parse(&s, None, false).unwrap();
         assert_eq!((src.kind, src.rates.len()), (Kind::StaticLog, 100));
         assert!(src.sampling.is_contiguous() && (src.sampling.step_s - 0.1).abs() < 1e-12);
         assert!(src.notes[0].contains("sample_rate_hz = 5"), "{:?}", src.notes);
-        let over = Source::parse(&s, Some(5.0)).unwrap();
+        let over = Source::parse(&s, Some(5.0), false).unwrap();
         assert!((over.sampling.step_s - 0.2).abs() < 1e-12);
-        let e = Source::parse("# format = other/1\nt_s,rate_dph\n0,1\n", None).unwrap_err();
+        let e = Source::parse("# format = other/1\nt_s,rate_dph\n0,1\n", None, false).unwrap_err();
         assert!(e.what.contains("format 'other/1'"), "{e}");
     }
 
@@ -239,12 +275,17 @@ mod tests {
                 11.5 * g.to_radians().cos() + 0.3 + noise
             );
         }
-        let src = Source::parse(&s, None).unwrap();
+        let src = Source::parse(&s, None, false).unwrap();
         assert_eq!(src.kind, Kind::Recording);
         assert!(src.rates.iter().all(|r| r.abs() < 0.02), "{:?}", &src.rates[..4]);
         assert_eq!((src.sampling.step_s, src.sampling.window_s), (3.0, 2.0));
         // 40 means are too few: four octaves need 64.
         let short: String = s.lines().take(4 + 40).map(|l| format!("{l}\n")).collect();
-        assert!(Source::parse(&short, None).unwrap_err().what.contains("too short"));
+        assert!(
+            Source::parse(&short, None, false)
+                .unwrap_err()
+                .what
+                .contains("too short")
+        );
     }
 }

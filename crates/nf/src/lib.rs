@@ -29,6 +29,7 @@ pub mod report;
 pub mod schedule;
 mod semisep;
 pub mod sim_compare;
+pub mod spikes;
 pub mod static_log;
 mod stats;
 #[cfg(test)]

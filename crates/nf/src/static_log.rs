@@ -159,6 +159,8 @@ pub struct StaticLog {
     pub meta: BTreeMap<String, String>,
     pub t_s: Vec<f64>,
     pub rate_dph: Vec<f64>,
+    /// Each sample's line in the file.
+    pub lines: Vec<usize>,
     /// Lowest and highest `temp_c`, when the log has that column.
     pub temp_span_c: Option<(f64, f64)>,
     pub spacing: Spacing,
@@ -221,6 +223,7 @@ impl StaticLog {
             meta: head.meta,
             t_s,
             rate_dph,
+            lines,
             temp_span_c,
             spacing,
         })

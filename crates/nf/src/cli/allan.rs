@@ -34,6 +34,10 @@ pub struct AllanArgs {
     /// Sample rate, Hz: overrides the step of the time column.
     #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 1e9))]
     sample_rate: Option<f64>,
+    /// Keep a static log's spikes (samples beyond 100 robust sigmas of the noise: fill values,
+    /// glitches), which are otherwise left out and listed.
+    #[arg(long)]
+    keep_spikes: bool,
 }
 
 /// What is reported: the input, the curve and its intervals, the fit.
@@ -71,7 +75,7 @@ fn check(a: &AllanArgs) -> Result<(), Fail> {
 pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     check(&a)?;
     let text = crate::textfile::read_text(&a.file).map_err(|e| Fail(e.at(&a.file), 2))?;
-    let src = Source::parse(&text, a.sample_rate).map_err(|e| Fail(e.at(&a.file), 2))?;
+    let src = Source::parse(&text, a.sample_rate, a.keep_spikes).map_err(|e| Fail(e.at(&a.file), 2))?;
     let (points, fit) = fit_series(&src.segments(), src.sampling).map_err(|e| Fail(format!("{}: {e}", a.file), 1))?;
     let r = Report {
         file: &a.file,
