@@ -1,6 +1,6 @@
 //! `bias_drift`: the bias moves with time, linearly or on a curve.
 
-use super::effect::{Effect, Proposal, State, param};
+use super::effect::{Effect, Law, Proposal, State, param};
 use super::kind::Kind;
 
 pub struct BiasDrift;
@@ -42,7 +42,7 @@ impl Effect for BiasDrift {
         linear
             .into_iter()
             .chain(curved)
-            .map(|p| s.wander_judged(p, 1))
+            .map(|p| s.wander_judged(p, Law::Drawn))
             .collect()
     }
 }

@@ -2,7 +2,7 @@
 //! `gamma + e(gamma)` is, linearised, `-R sin(gamma + psi) e(gamma)`: harmonics k - 1 and
 //! k + 1 of the residuals. k = 2 makes a third harmonic and biases the azimuth.
 
-use super::effect::{Effect, Proposal, State, param};
+use super::effect::{Effect, Law, Proposal, State, param};
 use super::kind::Kind;
 use nf_model::angle::atan2_deg;
 
@@ -59,7 +59,7 @@ impl Effect for EncoderError {
                         },
                         shows,
                     )
-                    .map(|p| s.wander_judged(p, 1))
+                    .map(|p| s.wander_judged(p, Law::F { scan: 1 }))
             })
             .collect()
     }

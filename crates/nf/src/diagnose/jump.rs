@@ -2,7 +2,7 @@
 //! scan's best step is judged also by the wander test (a random walk is a sum of steps), and
 //! its p-value corrected for the n - 4 change points it chose from.
 
-use super::effect::{Change, Effect, Proposal, State, f_test, param};
+use super::effect::{Change, Effect, Law, Proposal, State, f_test, param};
 use super::kind::Kind;
 use super::scan::{Shape, scan};
 
@@ -48,7 +48,7 @@ impl Effect for BiasJump {
                 scanned: 1,
                 own_p: None,
             },
-            n - 4,
+            Law::F { scan: n - 4 },
         )]
     }
 }

@@ -179,7 +179,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         };
         let mut starts = near(&e);
         starts.extend(with_drift.as_ref().map(near).unwrap_or_default());
-        WanderTest::new(&d.t, dwell_s, &quarters, &starts)
+        WanderTest::new(&d.t, dwell_s, &quarters, &starts).map(WanderTest::drawing)
     };
     Ok(Noise {
         wander,

@@ -1,7 +1,7 @@
 //! `nonlinearity`: a rate-squared term `k2 rate^2`, a second harmonic locked to `2 psi` with
 //! amplitude `k2 R^2 / 2`.
 
-use super::effect::{Effect, Proposal, State, param};
+use super::effect::{Effect, Law, Proposal, State, param};
 use super::kind::Kind;
 
 pub struct Nonlinearity;
@@ -40,7 +40,7 @@ impl Effect for Nonlinearity {
                 "a second harmonic locked to 2 psi".into(),
             )
             .into_iter()
-            .map(|p| s.wander_judged(p, 1))
+            .map(|p| s.wander_judged(p, Law::F { scan: 1 }))
             .collect()
     }
 }

@@ -3,7 +3,7 @@
 //! wander of the bias with time, and a rival judged under a more coloured model loses to the
 //! others whatever the data say.
 
-use super::effect::{Effect, Proposal, State, param};
+use super::effect::{Effect, Law, Proposal, State, param};
 use super::kind::Kind;
 
 pub struct ThermalDrift;
@@ -31,7 +31,7 @@ impl Effect for ThermalDrift {
                 "follows the recorded temperature".into(),
             )
             .into_iter()
-            .map(|p| s.wander_judged(p, 1))
+            .map(|p| s.wander_judged(p, Law::Drawn))
             .collect()
     }
 }
