@@ -560,6 +560,17 @@ fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
     assert!(err.contains("--bias-instability"), "{err}");
     let (code, _, err) = nf(&["plan", "--order", "spiral"]);
     assert_eq!(code, 2, "{err}");
+    let (code, _, err) = nf(&["plan", "--order", "0,2,4,6,1,3,5,7"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("visits 8 of the 72 positions, leaving the rest out"),
+        "{err}"
+    );
+    let (code, _, err) = nf(&["plan", "--n", "4", "--order", "0,1,2,3,0"]);
+    assert!(code == 2 && err.contains("some more often than others"), "{err}");
+    let (code, out, err) = nf(&["plan", "--n", "4", "--order", "0,2,1,3,3,1,2,0"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains(", 2 visits and 4 s of dwell per position"), "{out}");
 }
 
 #[test]

@@ -6,6 +6,7 @@ use crate::plan_noise::{self, Candidate, Space};
 use crate::plot::{Panel, Series, Style};
 use crate::range::{MAX_LATITUDE_DEG, above, real};
 use crate::schedule::{Schedule, Timing};
+use crate::textfile::short;
 use crate::twin_check::{self, RunSpec, TwinCheck};
 use crate::{plan, plot};
 use json::{AllowanceJson, CandidateJson, MonteCarloJson, NoiseBudgetJson, PlanJson, TwinCheckJson};
@@ -86,6 +87,31 @@ fn describe(c: &Candidate) -> String {
     )
 }
 
+/// The white-noise budgets take every position visited equally often: a list that leaves
+/// some out, or visits some more, is refused rather than planned as if it did.
+fn even_visits(order: &Order, n: u16) -> Result<(), Fail> {
+    let mut counts = vec![0u32; n as usize];
+    for p in order.positions(n) {
+        counts[p as usize] += 1;
+    }
+    let visited = counts.iter().filter(|&&c| c > 0).count();
+    let (lo, hi) = (counts.iter().min(), counts.iter().max());
+    if lo == hi {
+        return Ok(());
+    }
+    Err(Fail(
+        format!(
+            "--order: the list visits {visited} of the {n} positions, {}; a plan takes every position visited equally often (a list over all {n}, or --n for the positions it visits)",
+            if visited < n as usize {
+                "leaving the rest out"
+            } else {
+                "some more often than others"
+            }
+        ),
+        2,
+    ))
+}
+
 pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     let model = a.noise.apply(NoiseModel::white(a.gyro_noise, a.ref_dwell))?;
     let timing = Timing {
@@ -102,6 +128,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     let order = Order::parse(&a.order)
         .and_then(|o| o.check(a.n as u16).map(|()| o))
         .map_err(|e| Fail(format!("--order: {e}"), 2))?;
+    even_visits(&order, a.n as u16)?;
     let n = a.n as usize;
     // Levelling: two half turns, settling and an inclinometer reading at each.
     let levelling_s = 2.0 * (timing.move_s(a.steps_per_rev / 2) + a.settle + timing.per_position_s);
@@ -239,8 +266,9 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         String::new()
     } else {
         format!(
-            ", {visits_per_position} visits and {} s of dwell per position",
-            inp.dwell_s
+            ", {} visits and {} s of dwell per position",
+            short(visits_per_position),
+            short(inp.dwell_s)
         )
     };
     writeln!(
@@ -307,7 +335,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
             Some(n) => writeln!(
                 out,
                 "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s of dwell per position",
-                inp.dwell_s
+                short(inp.dwell_s)
             )?,
             None => writeln!(out, "target {t}\": not reachable by the paper's Eq. 31")?,
         }
