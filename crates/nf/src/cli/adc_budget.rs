@@ -101,7 +101,10 @@ impl AdcBudget {
         if fits.is_empty() {
             s + "; the terms are within it, so the input (a drift, a disturbance) went beyond"
         } else {
-            s + &format!("; {} fit at this sample rate", fits.join(", "))
+            s + &format!(
+                "; {} fit at this sample rate (an instrument file's `[run] sample_rate_hz`, --config, sets it)",
+                fits.join(", ")
+            )
         }
     }
 }

@@ -259,15 +259,15 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             psi
         );
         if let Some(u) = report.under_noise {
+            let target = match file.run.target_arcsec.filter(|t| *t > 0.0) {
+                Some(_) if report.target_reached => "; the target was reached and the run ended early".into(),
+                Some(t) => format!("; the target of {t}\" was not reached: the run visited every position"),
+                None => String::new(),
+            };
             note!(
-                "firmware under the noise model: psi {:.4} deg +- {:.1}\"{}",
+                "firmware under the noise model: psi {:.4} deg +- {:.1}\"{target}",
                 u.psi_deg,
                 u.sigma_psi_deg * 3600.0,
-                if report.target_reached {
-                    "; the target was reached and the run ended early"
-                } else {
-                    ""
-                }
             );
         }
     }
