@@ -145,3 +145,29 @@ fn diagnose_against_a_simulation_names_what_it_lacks_and_the_fix_reproduces_the_
     assert_eq!(code, 0, "{err}");
     assert!(!out.contains("missing from the simulation"), "{out}");
 }
+
+/// A site azimuth the file has wrong: nothing is missing, the azimuth differs, and the fix
+/// sets it to the recording's, which then agrees by construction; the text says both.
+#[test]
+fn a_quantity_the_fix_sets_to_the_recording_is_said_to_agree_by_construction() {
+    let (base, moved, rec) = (tmp("site.toml"), tmp("moved.toml"), tmp("site.csv"));
+    let (code, _, err) = nf(&["simulate", "--save-config", &base, "--seed", "8", "-o", &tmp("z.csv")]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&base).unwrap();
+    let at = text.find("azimuth_deg = ").unwrap();
+    let line_end = at + text[at..].find('\n').unwrap();
+    std::fs::write(
+        &moved,
+        format!("{}azimuth_deg = 66.0{}", &text[..at], &text[line_end..]),
+    )
+    .unwrap();
+    let (code, _, err) = nf(&["simulate", "--config", &moved, "-o", &rec]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = nf(&["diagnose", &rec, "--sim", &base, "--fix", &tmp("site_fixed.toml")]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("azimuth_deg set to the recording's by the fix"), "{out}");
+    assert!(
+        out.contains("; 1 quantity below still differs beyond the bound"),
+        "{out}"
+    );
+}

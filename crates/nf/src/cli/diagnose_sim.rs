@@ -192,7 +192,21 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
     )?;
     let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict != Verdict::Modelled).collect();
     if lacking.is_empty() {
-        writeln!(out, "  the simulation has every effect the recording shows")?;
+        let still = match s.before.mismatches() {
+            0 => String::new(),
+            1 => "; 1 quantity below still differs beyond the bound".into(),
+            k => format!("; {k} quantities below still differ beyond the bound"),
+        };
+        writeln!(
+            out,
+            "  the simulation has every effect and noise term the recording's diagnosis names{still}"
+        )?;
+        if !still.is_empty() {
+            writeln!(
+                out,
+                "  (a value the file has wrong, as the site's azimuth, physics the catalogue does not name, or wander one run cannot show)"
+            )?;
+        }
     }
     for p in &s.physics {
         let sigma = p.parameter.sigma.map_or(String::new(), |v| format!(" +- {v:.4e}"));
@@ -231,9 +245,24 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
             after.map_or("-".into(), |a| format!("{:.1}{}", a.z, star(a.mismatch))),
         )?;
     }
+    let set: Vec<String> = s
+        .before
+        .lines
+        .iter()
+        .filter(|l| l.mismatch && l.quantity.set_by_fix())
+        .map(|l| l.quantity.to_string())
+        .collect();
+    let by_construction = if set.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " ({} set to the recording's by the fix: those agree by construction)",
+            set.join(", ")
+        )
+    };
     writeln!(
         out,
-        "  mismatches: {} before, {} after the fix",
+        "  mismatches: {} before, {} after the fix{by_construction}",
         s.before.mismatches(),
         s.fixed.after.mismatches()
     )?;

@@ -34,6 +34,15 @@ pub enum Quantity {
 }
 
 impl Quantity {
+    /// Quantities `--fix` moves onto the recording's own value where they differ: after the
+    /// fix they agree by construction, not as evidence that the physics is in.
+    pub fn set_by_fix(self) -> bool {
+        matches!(
+            self,
+            Quantity::Bias | Quantity::Amplitude | Quantity::Azimuth | Quantity::TiltOffset
+        )
+    }
+
     /// Quantities that are angles and wrap.
     pub fn wraps(self) -> bool {
         self == Quantity::Azimuth
