@@ -208,7 +208,7 @@ pub fn correct(
             let read =
                 |r: &crate::recording::Row| r.tilt_x_deg.is_some() || (warning.is_none() && r.tilt_y_deg.is_some());
             let bridged = rec.rows.iter().filter(|r| !read(r)).count();
-            let s = solve(lat, &gammas, &c.shaft, &mut fit)?;
+            let s = solve(lat, &gammas, &c.shaft, &mut fit, true)?;
             let sigma_psi_deg = circle_sigma_deg(lat, &gammas, &c, &mut fit, s.psi_deg);
             Ok(Tilt {
                 corrections: s.corrections,
@@ -224,12 +224,14 @@ pub fn correct(
     }
 }
 
-/// The exact correction for the tilt `t`, with the azimuth and amplitude it leaves.
+/// The exact correction for the tilt `t`, with the azimuth and amplitude it leaves, and its
+/// sensitivity where `carry` asks for it (two more fits).
 fn solve(
     lat: f64,
     gammas: &[f64],
     t: &ShaftTilt<f64>,
     fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
+    carry: bool,
 ) -> Result<Solution, String> {
     // Start from first order (the circle's X at each position), then solve the exact model
     // with the fitted azimuth and scale.
@@ -256,7 +258,11 @@ fn solve(
                 corrections: c,
                 iterations: k,
                 psi_deg: psi + g[0],
-                sensitivity: carried(jacobian(&mut eval, psi, amp, g)?),
+                sensitivity: if carry {
+                    carried(jacobian(&mut eval, psi, amp, g)?)
+                } else {
+                    Sensitivity::NONE
+                },
             });
         }
         if closest.as_ref().is_none_or(|(d, ..)| g[0].abs() < *d) {
@@ -282,7 +288,11 @@ fn solve(
                 corrections,
                 iterations: MAX_ITERATIONS,
                 psi_deg: psi + g[0],
-                sensitivity: carried(jacobian(&mut eval, psi, amp, g)?),
+                sensitivity: if carry {
+                    carried(jacobian(&mut eval, psi, amp, g)?)
+                } else {
+                    Sensitivity::NONE
+                },
             })
         }
         _ => Err(format!(
@@ -337,7 +347,7 @@ fn circle_sigma_deg(
             continue;
         }
         let moved = c.moved(if k == 0 { h[k] } else { 0.0 }, if k == 1 { h[k] } else { 0.0 });
-        match solve(lat, gammas, &moved, fit) {
+        match solve(lat, gammas, &moved, fit, false) {
             Ok(s) => slope[k] = wrap_180(s.psi_deg - psi) / h[k],
             // To first order either coefficient turns the azimuth by tan(lat) radians.
             Err(_) => return lat.to_radians().tan().abs() * (0.5 * (c.cov[0][0] + c.cov[1][1])).sqrt().to_degrees(),
