@@ -251,19 +251,12 @@ fn solve(
     };
     // The closest point met, for when rounding keeps the step from the tolerance.
     let mut closest: Option<(f64, Vec<f64>, f64, f64)> = None;
+    let mut converged = None;
     for k in 1..=MAX_ITERATIONS {
         let (g, c) = eval(psi, amp)?;
         if g[0].abs() < PSI_TOL_DEG && g[1].abs() < 1e-12 * amp.abs().max(1e-6) {
-            return Ok(Solution {
-                corrections: c,
-                iterations: k,
-                psi_deg: psi + g[0],
-                sensitivity: if carry {
-                    carried(jacobian(&mut eval, psi, amp, g)?)
-                } else {
-                    Sensitivity::NONE
-                },
-            });
+            converged = Some((k, c, psi, amp, g));
+            break;
         }
         if closest.as_ref().is_none_or(|(d, ..)| g[0].abs() < *d) {
             closest = Some((g[0].abs(), c, psi, amp));
@@ -281,26 +274,31 @@ fn solve(
         psi += dp.clamp(-30.0, 30.0);
         amp = (amp + da).max(1e-9);
     }
-    match closest {
-        Some((d, corrections, psi, amp)) if d < NEAR_ENOUGH_DEG => {
+    let (iterations, corrections, psi, amp, g) = match (converged, closest) {
+        (Some(found), _) => found,
+        (None, Some((d, corrections, psi, amp))) if d < NEAR_ENOUGH_DEG => {
             let (g, _) = eval(psi, amp)?;
-            Ok(Solution {
-                corrections,
-                iterations: MAX_ITERATIONS,
-                psi_deg: psi + g[0],
-                sensitivity: if carry {
-                    carried(jacobian(&mut eval, psi, amp, g)?)
-                } else {
-                    Sensitivity::NONE
-                },
-            })
+            (MAX_ITERATIONS, corrections, psi, amp, g)
         }
-        _ => Err(format!(
-            "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations: at a tilt of {:.2} deg and latitude {lat} deg the vertical Earth rate the tilt adds is {:.2} times the horizontal one, and both scale with the gyro's scale factor, which the exact correction fits: the azimuth and the scale are then hardly separable. --tilt first-order takes the scale as 1",
-            t.tilt_deg,
-            t.tilt_deg.to_radians().sin() * lat.to_radians().tan().abs()
-        )),
-    }
+        _ => {
+            return Err(format!(
+                "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations: at a tilt of {:.2} deg and latitude {lat} deg the vertical Earth rate the tilt adds is {:.2} times the horizontal one, and both scale with the gyro's scale factor, which the exact correction fits: the azimuth and the scale are then hardly separable. --tilt first-order takes the scale as 1",
+                t.tilt_deg,
+                t.tilt_deg.to_radians().sin() * lat.to_radians().tan().abs()
+            ));
+        }
+    };
+    let sensitivity = if carry {
+        carried(jacobian(&mut eval, psi, amp, g)?)
+    } else {
+        Sensitivity::NONE
+    };
+    Ok(Solution {
+        corrections,
+        iterations,
+        psi_deg: psi + g[0],
+        sensitivity,
+    })
 }
 
 /// The Jacobian of `G` at `(psi, amp)`, where it is `g`, by differences.
