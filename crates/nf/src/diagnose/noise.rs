@@ -112,15 +112,12 @@ fn independent(cols: &[Vec<f64>], c: &[f64]) -> bool {
 /// Estimates (or takes) the noise model of `y`, the rates less the tilt correction.
 pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<Noise, String> {
     let cols = design(d);
-    let (dwell_s, _) = dwell_of(&d.rec);
+    let (dwell_s, quarters) = dwell_and_quarters(d);
     let n = d.n();
     let whitening = Whitening {
         windows: WindowSet::new(&d.t, &vec![dwell_s; n]),
     };
     let whitener_of = |m: &NoiseModel| whitening.of(m);
-    // The quarters show the short-time noise inside each dwell, whichever dwells have them
-    // (as `nf fit` takes them).
-    let quarters: Vec<[f64; 4]> = d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
     if let NoiseChoice::Given(m, label) = choice {
         let given = whitener_of(m)?;
         // A model from a static log is the gyro's there; this run's wander at its own
@@ -210,6 +207,13 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     })
 }
 
+/// The dwell, and the quarter means: they show the short-time noise inside each dwell,
+/// whichever dwells have them (as `nf fit` takes them).
+fn dwell_and_quarters(d: &Data) -> (f64, Vec<[f64; 4]>) {
+    let (dwell_s, _) = dwell_of(&d.rec);
+    (dwell_s, d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect())
+}
+
 /// The REML estimate of `y` under each of `designs` (white noise with flicker and walk, or a
 /// Gauss-Markov bias), from one dwell mean in `every` past `THINNED` positions, and `every`.
 fn estimates(
@@ -264,8 +268,7 @@ pub fn with_effects(d: &Data, y: &[f64], effects: &[Vec<f64>], alpha: f64) -> Op
         }
     }
     let robust = with_bursts_held_out(d, &cols, y);
-    let (dwell_s, _) = dwell_of(&d.rec);
-    let quarters: Vec<[f64; 4]> = d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    let (dwell_s, quarters) = dwell_and_quarters(d);
     let (mut e, _) = estimates(d, y, dwell_s, &quarters, &[&robust]);
     let (model, terms) = supported(&e.pop().flatten()?, alpha);
     Some(AfterEffects {
