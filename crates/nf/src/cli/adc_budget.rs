@@ -51,8 +51,13 @@ impl AdcBudget {
     /// Whether every sample must saturate the ADC, whatever the noise draws: the steady rate
     /// alone fills the full scale, or one quantisation step is beyond what is left.
     pub fn always_saturates(&self) -> bool {
-        let room = self.full_scale_dph - self.steady_dph;
+        let room = self.room_dph();
         room <= 0.0 || self.quant_step_dph > room
+    }
+
+    /// What the steady rate leaves of the full scale for the noise, deg/h.
+    fn room_dph(&self) -> f64 {
+        self.full_scale_dph - self.steady_dph
     }
 
     /// The budget in words, and which term leaves no room.
@@ -79,7 +84,7 @@ impl AdcBudget {
             " and a steady rate up to {:.3} deg/h (bias and Earth rate), against the gyro ADC's full scale of +-{:.3} deg/h",
             self.steady_dph, self.full_scale_dph
         );
-        let room = self.full_scale_dph - self.steady_dph;
+        let room = self.room_dph();
         if room <= 0.0 {
             return s + "; the steady rate alone leaves no room";
         }
