@@ -36,6 +36,8 @@ pub struct Tally {
     /// Sums of the squared azimuth errors, arcsec^2, of the baseline and the final azimuth.
     pub sq_err_baseline: f64,
     pub sq_err_final: f64,
+    /// Sum of the squared final errors over their reported sigmas.
+    pub sq_z_final: f64,
     /// Final azimuths worse than the baseline's by more than 3 baseline sigma.
     pub worse_than_baseline: u32,
     /// Final azimuths off by more than 3 of their own reported sigma.
@@ -73,6 +75,7 @@ impl Tally {
         let after = error_arcsec(o.final_deg, truth.psi_deg);
         self.sq_err_baseline += before * before;
         self.sq_err_final += after * after;
+        self.sq_z_final += (after / o.final_sigma_arcsec).powi(2);
         self.worse_than_baseline += u32::from(after.abs() - before.abs() > 3.0 * o.baseline_sigma_arcsec);
         self.beyond_3_sigma += u32::from(after.abs() > 3.0 * o.final_sigma_arcsec);
         count(&mut self.noise_named, &o.noise_terms);
@@ -90,6 +93,7 @@ impl Tally {
         self.false_alarms += other.false_alarms;
         self.sq_err_baseline += other.sq_err_baseline;
         self.sq_err_final += other.sq_err_final;
+        self.sq_z_final += other.sq_z_final;
         self.worse_than_baseline += other.worse_than_baseline;
         self.beyond_3_sigma += other.beyond_3_sigma;
         for (mine, theirs) in [
@@ -124,6 +128,11 @@ impl Tally {
 
     pub fn rms_final(&self) -> Option<f64> {
         (self.runs > 0).then(|| (self.sq_err_final / self.runs as f64).sqrt())
+    }
+
+    /// RMS of the final errors over their reported sigmas: 1 where the sigmas hold.
+    pub fn rms_z_final(&self) -> Option<f64> {
+        (self.runs > 0).then(|| (self.sq_z_final / self.runs as f64).sqrt())
     }
 }
 
@@ -177,6 +186,13 @@ mod tests {
         assert!((t.rms_baseline().unwrap() - rms_base).abs() < 1e-6);
         let rms_final = ((2500.0 + 1600.0 + 900.0) / 3.0f64).sqrt();
         assert!((t.rms_final().unwrap() - rms_final).abs() < 1e-6);
+        // z = 10, -2 and -30 / 11.
+        let rms_z = ((100.0 + 4.0 + (30.0f64 / 11.0).powi(2)) / 3.0).sqrt();
+        assert!((t.rms_z_final().unwrap() - rms_z).abs() < 1e-9);
+        let mut twice = Tally::default();
+        twice.merge(&t);
+        twice.merge(&t);
+        assert!((twice.rms_z_final().unwrap() - rms_z).abs() < 1e-9);
     }
 
     #[test]

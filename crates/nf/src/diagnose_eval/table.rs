@@ -127,6 +127,9 @@ struct TallyJson {
     /// RMS azimuth error of the final azimuth against the twin's truth, arcsec; null without
     /// runs.
     rms_error_final_arcsec: Option<f64>,
+    /// RMS of the final azimuth's error over its reported sigma (1 where the sigmas hold);
+    /// null without runs.
+    rms_z_final: Option<f64>,
     /// Recordings diagnosed.
     runs: u32,
     /// Share of the concealed effects that were named; null without concealed effects.
@@ -149,6 +152,7 @@ fn tally_json(t: &Tally) -> TallyJson {
         refused: t.refused,
         rms_error_baseline_arcsec: t.rms_baseline(),
         rms_error_final_arcsec: t.rms_final(),
+        rms_z_final: t.rms_z_final(),
         runs: t.runs,
         set_recall: t.recall(),
         worse_than_baseline_3sigma: t.worse_than_baseline,
