@@ -701,6 +701,14 @@ fn diagnose_json_schema_and_bad_inputs() {
     assert!(f["after"]["rss"].as_f64().unwrap() < j["baseline"]["rss"].as_f64().unwrap());
     assert!(f["after"]["azimuth_deg"].is_f64() && f["noise"] == false);
     assert!(j["noise_model"]["source"].as_str().unwrap().starts_with("estimated"));
+    // The final sigma is the final model's own under the noise estimated with its columns.
+    let from = j["noise_model"]["final_sigma_from"].as_str().unwrap();
+    assert!(from.contains("final model's columns"), "{from}");
+    let calibration = &j["noise_model"]["sigma_calibration"];
+    assert!(
+        calibration.is_null() || calibration.as_f64().unwrap() >= 1.0,
+        "{calibration}"
+    );
     let weights: f64 = j["models"]
         .as_array()
         .unwrap()

@@ -246,6 +246,9 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
             colour_text(&d.noise_with_effects)
         )?;
     }
+    if let Some(from) = &d.final_sigma_from {
+        writeln!(out, "     the final sigma {from}")?;
+    }
     if d.wander_tested {
         writeln!(
             out,

@@ -15,6 +15,7 @@ mod data;
 mod drift;
 mod effect;
 mod encoder;
+mod final_sigma;
 mod jump;
 mod kind;
 mod model;
@@ -39,6 +40,7 @@ pub use model::Summary;
 pub use noise::SHOCK_RMS;
 pub use select::Finding;
 
+use crate::noise_calib;
 use crate::noise_fit::NoiseChoice;
 use crate::recording::Recording;
 use crate::tilt::Sensitivity;
@@ -101,6 +103,12 @@ pub struct Diagnosis {
     /// positions, whether the noise is estimated or given.
     pub wander_tested: bool,
     pub noise_source: String,
+    /// Where the final sigma under the noise came from: `None` where it is the tests' noise
+    /// models' (a given model, or one thinned for its estimate).
+    pub final_sigma_from: Option<String>,
+    /// The factor replicates drawn from the noise scaled the final sigma by (`None`: not
+    /// scaled).
+    pub sigma_calibration: Option<f64>,
     /// Whether the noise model was estimated from the recording (not given).
     pub noise_estimated: bool,
     /// Eq. 7 on the raw rates, under the noise model.
@@ -200,7 +208,14 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     .run(start)?;
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
-    let mut final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise);
+    let own = match opt.noise {
+        NoiseChoice::Estimate => {
+            let cols: Vec<Vec<f64>> = sel.model.cols.iter().map(|c| c.raw.clone()).collect();
+            final_sigma::final_sigma(&d, &cols, &sel.model.y, usize::from(noise_calib::REPLICATES))
+        }
+        _ => None,
+    };
+    let mut final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise, own.as_ref());
     let s2 = sel.fit.s2();
     let cov: Vec<Vec<f64>> = sel
         .fit
@@ -209,7 +224,10 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         .map(|r| r.iter().map(|c| c * s2).collect())
         .collect();
     let amp = crate::noise_fit::azimuth(&sel.fit.coef, &cov);
-    let (carried, sigma_amplitude) = sensitivity.carried(final_.sigma_arcsec / 3600.0, amp.sigma_amplitude_dph);
+    let sigma_amplitude = own
+        .as_ref()
+        .map_or(amp.sigma_amplitude_dph, |o| o.verdict.sigma_amplitude_dph);
+    let (carried, sigma_amplitude) = sensitivity.carried(final_.sigma_arcsec / 3600.0, sigma_amplitude);
     // The tilt circle is measured apart from the gyro: its uncertainty adds.
     final_.sigma_arcsec = (carried * 3600.0).hypot(tilt_sigma_arcsec);
     let predicted = nf_model::uncertainty::amplitude_dph(rec.latitude_deg);
@@ -295,6 +313,8 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_with_effects,
         wander_tested: noise.wander.is_some(),
         noise_source: noise.source,
+        final_sigma_from: own.as_ref().map(final_sigma::FinalSigma::describe),
+        sigma_calibration: own.as_ref().and_then(|o| o.calibration).map(|c| c.psi),
         noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: summary(&base),
         findings,
@@ -329,8 +349,15 @@ fn measured_tails(d: &Data, design: Vec<Vec<f64>>, y: &[f64], w: &Whitener) -> (
 
 /// The averaged result with the noise model's own uncertainty added: the selected model is
 /// fitted under every noise model the recording allows and averaged by their likelihoods
-/// (as `nf fit` does), and the spread the model averaging added is kept on top.
-fn noise_averaged(averaged: Summary, selected: &Model, main: Summary, noise: &noise::Noise) -> Summary {
+/// (as `nf fit` does), and the spread the model averaging added is kept on top. The sigma
+/// under the noise is `own`'s where there is one.
+fn noise_averaged(
+    averaged: Summary,
+    selected: &Model,
+    main: Summary,
+    noise: &noise::Noise,
+    own: Option<&final_sigma::FinalSigma>,
+) -> Summary {
     let fits: Vec<(f64, Summary)> = noise
         .plausible
         .iter()
@@ -345,11 +372,15 @@ fn noise_averaged(averaged: Summary, selected: &Model, main: Summary, noise: &no
     }
     let shift = |s: &Summary| nf_model::angle::wrap_180(s.azimuth_deg - main.azimuth_deg) * 3600.0;
     let mean = fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total;
-    let var = fits
-        .iter()
-        .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
-        .sum::<f64>()
-        / total;
+    let var = match own {
+        Some(o) => (o.verdict.sigma_psi_deg * 3600.0).powi(2),
+        None => {
+            fits.iter()
+                .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
+                .sum::<f64>()
+                / total
+        }
+    };
     let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
     Summary {
         azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + mean / 3600.0),

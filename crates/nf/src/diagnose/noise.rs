@@ -209,7 +209,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
 
 /// The dwell, and the quarter means: they show the short-time noise inside each dwell,
 /// whichever dwells have them (as `nf fit` takes them).
-fn dwell_and_quarters(d: &Data) -> (f64, Vec<[f64; 4]>) {
+pub(super) fn dwell_and_quarters(d: &Data) -> (f64, Vec<[f64; 4]>) {
     let (dwell_s, _) = dwell_of(&d.rec);
     (dwell_s, d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect())
 }
@@ -290,14 +290,19 @@ pub struct AfterEffects {
 /// likelihood, weighted by it (a Gauss-Markov model's sigma is too small when averaged: see
 /// [`noise_est::Colours`]).
 fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
+    plausible_candidates(e).into_iter().map(|(w, c)| (w, c.model)).collect()
+}
+
+/// [`plausible`]'s models with their fits, the most likely first.
+pub(super) fn plausible_candidates(e: &noise_est::Estimate) -> Vec<(f64, &Candidate)> {
     let wander = || flicker_and_walk(e);
     let top = wander().map(|c| c.loglik).fold(f64::MIN, f64::max);
-    let kept: Vec<(f64, NoiseModel)> = wander()
-        .map(|c| ((c.loglik - top).exp(), c.model))
+    let kept: Vec<(f64, &Candidate)> = wander()
+        .map(|c| ((c.loglik - top).exp(), c))
         .filter(|(w, _)| *w >= 0.01)
         .collect();
     let total: f64 = kept.iter().map(|k| k.0).sum();
-    kept.into_iter().map(|(w, m)| (w / total, m)).collect()
+    kept.into_iter().map(|(w, c)| (w / total, c)).collect()
 }
 
 /// The estimate's models without a Gauss-Markov term, its best first.

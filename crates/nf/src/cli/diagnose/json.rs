@@ -114,6 +114,10 @@ struct NoiseModelJson<'a> {
     rrw_dph_rth: f64,
     /// Where the model came from.
     source: &'a str,
+    /// Where the final sigma under the noise came from (null: the tests' noise models).
+    final_sigma_from: Option<&'a str>,
+    /// The factor a parametric bootstrap scaled the final sigma by (null: not scaled).
+    sigma_calibration: Option<f64>,
     /// The model estimated with a drift: drift, jump and temperature are judged under it.
     with_drift: ColouredJson,
     /// The model estimated again with the named effects in the design: the noise terms named
@@ -191,6 +195,8 @@ pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -
             cautious: (&d.cautious_model).into(),
             rrw_dph_rth: m.rrw_dph_rth,
             source: &d.noise_source,
+            final_sigma_from: d.final_sigma_from.as_deref(),
+            sigma_calibration: d.sigma_calibration,
             with_drift: (&d.drift_model).into(),
             with_effects: (&d.noise_with_effects).into(),
             wander_tested: d.wander_tested,
