@@ -709,6 +709,13 @@ fn diagnose_json_schema_and_bad_inputs() {
         calibration.is_null() || calibration.as_f64().unwrap() >= 1.0,
         "{calibration}"
     );
+    let (code, out, err) = nf(&["diagnose", &path, "--json", "--replicates", "0"]);
+    assert_eq!(code, 0, "{err}");
+    let uncalibrated: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(uncalibrated["noise_model"]["sigma_calibration"].is_null());
+    assert_eq!(uncalibrated["final"]["azimuth_deg"], j["final"]["azimuth_deg"]);
+    let (code, _, err) = nf(&["diagnose", &path, "--replicates", "-1"]);
+    assert_eq!(code, 2, "{err}");
     let weights: f64 = j["models"]
         .as_array()
         .unwrap()

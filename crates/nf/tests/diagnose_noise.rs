@@ -250,9 +250,9 @@ fn the_final_sigma_carries_the_noise_models_uncertainty() {
 fn the_final_sigma_holds_under_a_random_walk_in_a_sweep() {
     // In a sweep a walk shows most in harmonics 2-4 of the angle, which the tests' noise
     // estimate holds in its design; the final sigma takes the noise estimated under the final
-    // model's own columns, calibrated by replicates (before: 1.34 and 1.15 here; 0.96 and
-    // 0.98 now). A walk of 3 dwell sigmas, at the edge of what one run shows, is still at
-    // 1.75 (1.91 before; docs/diagnose.md).
+    // model's own columns, calibrated by replicates (at 10: 1.34 before, 0.96 now). A walk
+    // of 3 dwell sigmas, at the edge of what one run shows, is still at 1.75 (1.91 before;
+    // docs/diagnose.md).
     for ratio in [10.0, 30.0] {
         let (fin, _) = rms_z(random_walk(ratio), 40);
         println!("random walk {ratio} dwell sigmas over the run: RMS error/sigma final {fin:.2}");

@@ -5,6 +5,8 @@ use super::{Fail, angle5, diagnose_sim, read_recording, write_out};
 use crate::diagnose::{Diagnosis, Options, Point, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
 use crate::instrument_file::InstrumentFile;
+use crate::noise_calib;
+use crate::noise_est::THINNED;
 use crate::noise_fit::NoiseChoice;
 use crate::plot::{self, Panel, Series, Style};
 use crate::range::above;
@@ -19,6 +21,8 @@ mod json;
 /// Positions beyond which a diagnosis takes about a second on this machine (0.67 s at 20 000,
 /// 2.1 s at 100 000: `examples/diagnose_bench.rs`).
 const SLOW_POSITIONS: usize = 30_000;
+/// Positions beyond which the final sigma's replicates take about a second.
+const SLOW_REPLICATED_POSITIONS: usize = 300;
 
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
@@ -27,6 +31,10 @@ pub struct DiagnoseArgs {
     /// Family-wise false-alarm rate of each selection step.
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.05, value_parser = above(0.0, 0.5))]
     alpha: f64,
+    /// Bootstrap replicates that calibrate the final sigma under a noise model estimated
+    /// from the recording, up to 2000 positions (0: none; each costs one more noise estimate).
+    #[arg(long, allow_hyphen_values = true, default_value_t = noise_calib::REPLICATES, value_parser = clap::value_parser!(u16).range(0..=1000))]
+    replicates: u16,
     #[arg(long)]
     json: bool,
     /// Plot the residuals before and after (*.svg or *.png).
@@ -82,16 +90,26 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         } else {
             NoiseChoice::Estimate
         },
+        replicates: usize::from(a.replicates),
     };
     // Too few positions, or a shaft that did not turn, is bad input, like a malformed line.
     rec.require_turning()
         .and_then(|_| rec.require_positions(crate::diagnose::MIN_POSITIONS, "diagnosing"))
         .map_err(|e| Fail(format!("{path}: {e}"), 2))?;
     // Past this many positions a diagnosis takes more than a second, and a spinner says so
-    // (on a terminal only).
+    // (on a terminal only); so do the replicates of the final sigma from a few hundred.
+    let n = rec.rows.len();
+    let replicated = opt.noise == NoiseChoice::Estimate && a.replicates > 0 && n <= THINNED;
     let spinner = super::spinner(
-        rec.rows.len() > SLOW_POSITIONS,
-        format!("diagnosing {} positions", rec.rows.len()),
+        n > SLOW_POSITIONS || (replicated && n > SLOW_REPLICATED_POSITIONS),
+        if replicated {
+            format!(
+                "diagnosing {n} positions and {} bootstrap replicates (--replicates 0 skips them)",
+                a.replicates
+            )
+        } else {
+            format!("diagnosing {n} positions")
+        },
     );
     let d = diagnose(&rec, &opt);
     if let Some(s) = spinner {
@@ -329,6 +347,7 @@ fn diagnose_evaluate(a: &DiagnoseArgs) -> Result<(), Fail> {
     let bar = indicatif::ProgressBar::new(diagnose_eval::planned_runs(&opts));
     let opt = Options {
         alpha: a.alpha,
+        replicates: usize::from(a.replicates),
         ..Options::default()
     };
     let diag = |rec: &Recording| diagnose(rec, &opt).ok().map(|d| diagnose_eval::outcome_of(&d));

@@ -60,6 +60,9 @@ pub struct Options {
     /// Family-wise false-alarm rate of each selection step.
     pub alpha: f64,
     pub noise: NoiseChoice,
+    /// Bootstrap replicates that calibrate the final sigma under a noise model estimated
+    /// from the recording (0: none).
+    pub replicates: usize,
 }
 
 impl Default for Options {
@@ -67,6 +70,7 @@ impl Default for Options {
         Options {
             alpha: 0.05,
             noise: NoiseChoice::Estimate,
+            replicates: usize::from(noise_calib::REPLICATES),
         }
     }
 }
@@ -211,7 +215,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let own = match opt.noise {
         NoiseChoice::Estimate => {
             let cols: Vec<Vec<f64>> = sel.model.cols.iter().map(|c| c.raw.clone()).collect();
-            final_sigma::final_sigma(&d, &cols, &sel.model.y, usize::from(noise_calib::REPLICATES))
+            final_sigma::final_sigma(&d, &cols, &sel.model.y, opt.replicates)
         }
         _ => None,
     };
