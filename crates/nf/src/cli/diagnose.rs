@@ -104,7 +104,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         n > SLOW_POSITIONS || (replicated && n > SLOW_REPLICATED_POSITIONS),
         if replicated {
             format!(
-                "diagnosing {n} positions and {} bootstrap replicates (--replicates 0 skips them)",
+                "diagnosing {n} positions and up to {} bootstrap replicates (--replicates 0 skips them)",
                 a.replicates
             )
         } else {
