@@ -35,22 +35,37 @@ pub struct Calibration {
     pub replicates: usize,
 }
 
-/// Calibrates `truth`, the fit of `data`, by `replicates` replicates: each is `fitted` (the
-/// fit's prediction of the dwell means) plus noise drawn from `model` for the dwells and their
-/// quarters, fitted by `judge`. The replicates run on every core, each from its own seed.
+impl Verdict {
+    /// The verdict with its sigmas scaled by `calibration`, where there is one.
+    pub fn calibrated(self, calibration: Option<Calibration>) -> Verdict {
+        let (psi, amplitude) = calibration.map_or((1.0, 1.0), |c| (c.psi, c.amplitude));
+        Verdict {
+            sigma_psi_deg: self.sigma_psi_deg * psi,
+            sigma_amplitude_dph: self.sigma_amplitude_dph * amplitude,
+            ..self
+        }
+    }
+}
+
+/// Calibrates `truth`, the fit of `data`, by `replicates` replicates: each is the prediction
+/// of the dwell means by the fit's coefficients `coef` (on `data.cols`) plus noise drawn from
+/// `model` for the dwells and their quarters, fitted by `judge`. The replicates run on every core, each from its own seed.
 /// `None` when the model gives no covariance for the recording's windows or no replicate
 /// could be fitted.
 pub fn calibrate(
     data: &Data<'_>,
     model: &NoiseModel,
-    fitted: &[f64],
+    coef: &[f64],
     truth: &Verdict,
     replicates: usize,
     judge: impl Fn(Data<'_>) -> Option<Verdict> + Sync,
 ) -> Option<Calibration> {
     let draw = Draw::new(data, model)?;
+    let fitted: Vec<f64> = (0..data.y.len())
+        .map(|i| data.cols.iter().zip(coef).map(|(c, b)| c[i] * b).sum())
+        .collect();
     let z: Vec<(f64, f64)> = replicate::run(replicates, seed_of(data.y), |rng| {
-        let (y, quarters) = draw.replicate(rng, fitted);
+        let (y, quarters) = draw.replicate(rng, &fitted);
         let v = judge(Data {
             y: &y,
             quarters: &quarters,
@@ -80,6 +95,9 @@ mod tests {
     use crate::linfit;
     use nf_model::angle::atan2_deg;
 
+    /// The signal's `C, A, B`.
+    const COEF: [f64; 3] = [0.3, 0.01, -0.004];
+
     /// 48 dwells of 2 s, 2.5 s apart, over a turn: the columns `1, cos, sin` and a signal.
     struct Run {
         t: Vec<f64>,
@@ -96,7 +114,7 @@ mod tests {
             g.iter().map(|g| g.cos()).collect(),
             g.iter().map(|g| g.sin()).collect(),
         ];
-        let fitted = (0..n).map(|i| 0.3 + 0.01 * cols[1][i] - 0.004 * cols[2][i]).collect();
+        let fitted = (0..n).map(|i| (0..3).map(|k| cols[k][i] * COEF[k]).sum()).collect();
         Run { t, cols, fitted }
     }
 
@@ -138,16 +156,16 @@ mod tests {
             amplitude_dph: 0.01f64.hypot(0.004),
             ..truth
         };
-        let half = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(0.5)).unwrap();
+        let half = calibrate(&d, &model, &COEF, &truth, REPLICATES.into(), judge_claiming(0.5)).unwrap();
         assert_eq!(half.replicates, usize::from(REPLICATES));
         // 40 replicates know an RMS to about 11 %.
         assert!((1.6..2.5).contains(&half.psi), "{half:?}");
         assert!((1.6..2.5).contains(&half.amplitude), "{half:?}");
-        let honest = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(1.0)).unwrap();
+        let honest = calibrate(&d, &model, &COEF, &truth, REPLICATES.into(), judge_claiming(1.0)).unwrap();
         assert!((1.0..1.25).contains(&honest.psi), "{honest:?}");
-        let wide = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(3.0)).unwrap();
+        let wide = calibrate(&d, &model, &COEF, &truth, REPLICATES.into(), judge_claiming(3.0)).unwrap();
         assert_eq!(wide.psi, 1.0, "a sigma is never scaled down");
-        let again = calibrate(&d, &model, &r.fitted, &truth, REPLICATES.into(), judge_claiming(0.5)).unwrap();
+        let again = calibrate(&d, &model, &COEF, &truth, REPLICATES.into(), judge_claiming(0.5)).unwrap();
         assert_eq!(again, half, "the same data, the same calibration");
     }
 }

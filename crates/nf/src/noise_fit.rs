@@ -168,16 +168,10 @@ pub fn fit(
             let (e, one_in) =
                 estimate(data.clone(), colours).ok_or("the noise model could not be estimated from the recording")?;
             let j = judge(&e).ok_or("no noise model fits")?;
-            let fitted: Vec<f64> = (0..n).map(|i| (0..p).map(|k| cols[k][i] * j.coef[k]).sum()).collect();
             // Replicates from the supported model, fitted the same way, calibrate the sigma.
             let judge_replica = |d: Data<'_>| estimate(d, colours).and_then(|(e, _)| judge(&e)).map(|j| j.verdict);
-            let calibration = noise_calib::calibrate(&data, &j.model, &fitted, &j.verdict, replicates, judge_replica);
-            let scale = calibration.map_or((1.0, 1.0), |c| (c.psi, c.amplitude));
-            let v = Verdict {
-                sigma_psi_deg: j.verdict.sigma_psi_deg * scale.0,
-                sigma_amplitude_dph: j.verdict.sigma_amplitude_dph * scale.1,
-                ..j.verdict
-            };
+            let calibration = noise_calib::calibrate(&data, &j.model, &j.coef, &j.verdict, replicates, judge_replica);
+            let v = j.verdict.calibrated(calibration);
             let source = NoiseSource::Estimated {
                 dof: e.dof,
                 from_quarters: quarters.len(),

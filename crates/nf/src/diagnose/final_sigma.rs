@@ -54,22 +54,14 @@ pub fn final_sigma(d: &Data, cols: &[Vec<f64>], y: &[f64], replicates: usize) ->
     let verdict = averaged(&e)?;
     let (supported, _) = e.supported();
     let calibration = if supported.model.is_coloured() {
-        let fitted: Vec<f64> = (0..d.n())
-            .map(|i| design.iter().zip(&supported.coef).map(|(c, b)| c[i] * b).sum())
-            .collect();
         let truth = azimuth(&supported.coef, &supported.cov);
         let judge = |r: noise_est::Data<'_>| noise_est::estimate(r, Colours::FlickerAndWalk).and_then(|e| averaged(&e));
-        noise_calib::calibrate(&data, &supported.model, &fitted, &truth, replicates, judge)
+        noise_calib::calibrate(&data, &supported.model, &supported.coef, &truth, replicates, judge)
     } else {
         None
     };
-    let scale = calibration.map_or((1.0, 1.0), |c| (c.psi, c.amplitude));
     Some(FinalSigma {
-        verdict: Verdict {
-            sigma_psi_deg: verdict.sigma_psi_deg * scale.0,
-            sigma_amplitude_dph: verdict.sigma_amplitude_dph * scale.1,
-            ..verdict
-        },
+        verdict: verdict.calibrated(calibration),
         calibration,
     })
 }
