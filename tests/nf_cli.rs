@@ -232,6 +232,45 @@ fn simulate_then_fit_json() {
 }
 
 #[test]
+fn shocked_dwells_are_named_in_the_fit_and_white_ones_are_not() {
+    let (shocked, calm) = (tmp("shocked.csv"), tmp("calm.csv"));
+    let (code, _, err) = nf(&[
+        "simulate",
+        "--shocks-per-hour",
+        "146",
+        "--shock-size",
+        "0.0866",
+        "--shock-duration",
+        "2",
+        "--psi",
+        "48.4",
+        "--seed",
+        "1",
+        "--tilt",
+        "0",
+        "-o",
+        &shocked,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = nf(&["simulate", "--psi", "48.4", "--seed", "1", "--tilt", "0", "-o", &calm]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = nf(&["fit", &shocked, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let s = &j["noise_model"]["shocks"];
+    let struck = s["struck_lines"].as_array().unwrap();
+    assert!(!struck.is_empty() && s["share"].as_f64().unwrap() > 0.0, "{s}");
+    // Each struck line is a dwell of the recording (metadata and header come first).
+    assert!(struck.iter().all(|l| l.as_u64().unwrap() > 3), "{s}");
+    let (_, text, _) = nf(&["fit", &shocked]);
+    assert!(text.contains("dwells read as struck"), "{text}");
+    let (code, out, err) = nf(&["fit", &calm, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(j["noise_model"]["shocks"].is_null(), "{}", j["noise_model"]);
+}
+
+#[test]
 fn fit_of_a_bad_recording_names_the_line() {
     let bad = tmp("bad.csv");
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,oops\n").unwrap();

@@ -198,10 +198,22 @@ impl WindowSet {
 
     /// [`Cov::of_windows`] of these windows under `model`.
     pub fn cov(&self, model: &NoiseModel) -> Option<Cov> {
+        self.cov_plus(model, None)
+    }
+
+    /// [`WindowSet::cov`] with `extra[i]` added to window `i`'s variance: a disturbance of
+    /// that window's mean alone.
+    pub fn cov_plus(&self, model: &NoiseModel, extra: Option<&[f64]>) -> Option<Cov> {
         let n = self.t_s.len();
-        match self.shared.as_ref().and_then(|w| w.factor(model)) {
+        match self.shared.as_ref().and_then(|w| w.factor(model, extra)) {
             Some(s) => Some(Cov::semiseparable(s)),
-            None if n <= DENSE_LIMIT => Cov::new(&window_covariance(model, &self.t_s, &self.dwell_s), n),
+            None if n <= DENSE_LIMIT => {
+                let mut m = window_covariance(model, &self.t_s, &self.dwell_s);
+                for (i, e) in extra.into_iter().flatten().enumerate() {
+                    m[i * n + i] += e;
+                }
+                Cov::new(&m, n)
+            }
             None => None,
         }
     }

@@ -28,6 +28,7 @@ pub mod replicate;
 pub mod report;
 pub mod schedule;
 mod semisep;
+pub mod shock_fit;
 pub mod sim_compare;
 pub mod spikes;
 pub mod static_log;

@@ -125,6 +125,7 @@ mod tests {
             cols: &r.cols,
             y: &r.fitted,
             quarters: &[],
+            extra: None,
         }
     }
 

@@ -28,6 +28,9 @@ pub struct Data<'a> {
     pub y: &'a [f64],
     /// Quarter means of the dwells that have them.
     pub quarters: &'a [[f64; 4]],
+    /// Per dwell, a variance of its mean alone (a shock's) in units of the white density,
+    /// so that it scales with the white level the estimate profiles out; `None`: none.
+    pub extra: Option<&'a [f64]>,
 }
 
 /// One noise model the search looked at: its profile likelihood and GLS fit.
@@ -187,7 +190,7 @@ impl Point {
 }
 
 /// `m` with every variance multiplied by `w`.
-fn scaled(m: &NoiseModel, w: f64) -> NoiseModel {
+pub(crate) fn scaled(m: &NoiseModel, w: f64) -> NoiseModel {
     let s = w.sqrt();
     NoiseModel {
         arw_deg_rth: m.arw_deg_rth * s,
@@ -251,7 +254,7 @@ impl<'a> Problem<'a> {
 
     /// The covariance of the dwell means at `at`, factored.
     fn cov(&self, at: Point) -> Option<Cov> {
-        self.windows.cov(&at.unit_model())
+        self.windows.cov_plus(&at.unit_model(), self.data.extra)
     }
 
     /// The profile under the factored covariance `cov` of `at`.
@@ -559,6 +562,7 @@ mod tests {
                 cols: &r.cols,
                 y: &r.y,
                 quarters: &r.quarters,
+                extra: None,
             };
             let e = estimate_all(data.clone(), &[], Colours::WithGaussMarkov)
                 .remove(0)

@@ -5,8 +5,9 @@ use crate::diagnose::tails;
 use crate::gls::{self, Cov, WindowSet};
 use crate::linfit;
 use crate::noise_calib::{self, Calibration, Verdict};
-use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned};
-use crate::recording::Recording;
+use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned, scaled};
+use crate::recording::{Recording, Row};
+use crate::shock_fit::{self, ShockFit};
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
 use nf_model::noise::NoiseModel;
@@ -63,7 +64,7 @@ impl NoiseSource {
                 };
                 let shocks = match colours {
                     Colours::WithShocks => {
-                        "; the dwell means are heavy-tailed: read as shocks (a Gauss-Markov bias shorter than three dwell spacings searched too), not as wander"
+                        "; the dwell means are heavy-tailed: read as shocks (a Gauss-Markov bias shorter than three dwell spacings searched too), not as wander, and each dwell weighed by how likely a shock struck it"
                     }
                     _ => "",
                 };
@@ -93,6 +94,17 @@ pub struct NoiseFit {
     /// model describes the recording.
     pub chi2: f64,
     pub dof: usize,
+    /// The shocks the fit weighed the dwells through, where the dwell means are heavy-tailed.
+    pub shocks: Option<Shocks>,
+}
+
+/// Shocks in a recording: the share of dwells struck, the sd of a shock's shift, and the
+/// lines of the dwells more likely struck than not.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shocks {
+    pub share: f64,
+    pub shift_dph: f64,
+    pub struck: Vec<usize>,
 }
 
 /// The dwell length: the metadata, else samples over the sample rate, else 80 % of the
@@ -149,6 +161,7 @@ pub fn fit(
         ));
     }
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    let colours = colours_of(&cols, y);
     let (model, source, v) = match choice {
         NoiseChoice::Given(m, s) => {
             let cov = Cov::of_windows(m, &t, &vec![dwell_s; n])
@@ -163,8 +176,8 @@ pub fn fit(
                 cols: &cols,
                 y,
                 quarters: &quarters,
+                extra: None,
             };
-            let colours = colours_of(&cols, y);
             let (e, one_in) =
                 estimate(data.clone(), colours).ok_or("the noise model could not be estimated from the recording")?;
             let j = judge(&e).ok_or("no noise model fits")?;
@@ -183,9 +196,54 @@ pub fn fit(
         }
     };
     // The whitened residuals of the chosen model tell whether it describes the recording.
-    let cov = Cov::of_windows(&model, &t, &vec![dwell_s; n])
+    let windows = WindowSet::new(&t, &vec![dwell_s; n]);
+    let cov = windows
+        .cov(&model)
         .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
     let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
+    // Heavy-tailed dwell means: each weighed by how likely a shock struck it.
+    let through = match choice {
+        _ if colours != Colours::WithShocks => None,
+        NoiseChoice::Given(..) => shock_fit::fit(&windows, &model, false, &cols, y).map(|sf| Through {
+            verdict: azimuth(&sf.gls.coef, &sf.gls.cov),
+            model,
+            gls: sf.gls.clone(),
+            shocks: sf,
+        }),
+        NoiseChoice::Estimate if n <= noise_est::THINNED => {
+            let data = Data {
+                t_s: &t,
+                dwell_s,
+                cols: &cols,
+                y,
+                quarters: &quarters,
+                extra: None,
+            };
+            through_shocks(&data, &windows, &model, &rec.rows)
+        }
+        NoiseChoice::Estimate => None,
+    };
+    let (v, g, model, shocks) = match through {
+        Some(th) => {
+            // What the Gaussian fit's sigmas carry beyond its own GLS (the spread of the noise
+            // models the recording allows, the replicates' calibration) is carried over.
+            let own = azimuth(&g.coef, &g.cov);
+            let carried = |total: f64, own: f64| (total / own).max(1.0);
+            let r = th.verdict;
+            let v = Verdict {
+                sigma_psi_deg: r.sigma_psi_deg * carried(v.sigma_psi_deg, own.sigma_psi_deg),
+                sigma_amplitude_dph: r.sigma_amplitude_dph * carried(v.sigma_amplitude_dph, own.sigma_amplitude_dph),
+                ..r
+            };
+            let shocks = Shocks {
+                share: th.shocks.share,
+                shift_dph: th.shocks.shift_dph,
+                struck: th.shocks.struck.iter().map(|&i| rec.rows[i].line).collect(),
+            };
+            (v, th.gls, th.model, Some(shocks))
+        }
+        None => (v, g, model, None),
+    };
     Ok(NoiseFit {
         model,
         source,
@@ -198,6 +256,80 @@ pub fn fit(
         offset_dph: g.coef[0],
         chi2: g.chi2,
         dof: g.dof,
+        shocks,
+    })
+}
+
+/// A fit through shocks: the azimuth, the noise model, the fit's GLS and the shocks.
+struct Through {
+    verdict: Verdict,
+    model: NoiseModel,
+    gls: gls::Gls,
+    shocks: ShockFit,
+}
+
+/// Rounds of the shocks' EM and the noise estimate in turn.
+const ROUNDS: usize = 3;
+
+/// The fit through shocks with the noise estimated beside them: the shocks' EM under the
+/// noise model, then the noise (flicker and walk) estimated again with each dwell's share of
+/// the shocks in its variance and the struck dwells' quarters left out (a shock within a dwell
+/// is not the gyro's short-time noise), in turn. The Gaussian estimate took the shocks for a
+/// short Gauss-Markov bias, and with it for the only colour: its flicker would be lost.
+fn through_shocks(data: &Data<'_>, windows: &WindowSet, gaussian: &NoiseModel, rows: &[Row]) -> Option<Through> {
+    let mut model = NoiseModel {
+        gm_sigma_dph: 0.0,
+        ..*gaussian
+    };
+    let mut last: Option<Through> = None;
+    for round in 0..ROUNDS {
+        // The first round scales the Gaussian model to the calm dwells; the later ones keep
+        // the estimate's level. A round that fails leaves the last one's fit.
+        let Some(next) = shock_round(data, windows, &model, round == 0, rows) else {
+            break;
+        };
+        model = next.model;
+        last = Some(next);
+    }
+    last
+}
+
+/// One round of [`through_shocks`] from `model`.
+fn shock_round(
+    data: &Data<'_>,
+    windows: &WindowSet,
+    model: &NoiseModel,
+    rescale: bool,
+    rows: &[Row],
+) -> Option<Through> {
+    let sf = shock_fit::fit(windows, model, rescale, data.cols, data.y)?;
+    let white = scaled(model, sf.scale).white_dph_rts().powi(2);
+    if white.is_nan() || white <= 0.0 {
+        return None;
+    }
+    let relative: Vec<f64> = sf.extra.iter().map(|e| e / white).collect();
+    let quarters: Vec<[f64; 4]> = rows
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !sf.struck.contains(i))
+        .filter_map(|(_, r)| r.quarters_dph)
+        .collect();
+    let e = noise_est::estimate(
+        Data {
+            quarters: &quarters,
+            extra: Some(&relative),
+            ..data.clone()
+        },
+        Colours::FlickerAndWalk,
+    )?;
+    let j = judge(&e)?;
+    let absolute: Vec<f64> = relative.iter().map(|r| r * j.model.white_dph_rts().powi(2)).collect();
+    let gls = gls::fit(data.cols, data.y, &windows.cov_plus(&j.model, Some(&absolute))?)?;
+    Some(Through {
+        verdict: j.verdict,
+        model: j.model,
+        gls,
+        shocks: sf,
     })
 }
 

@@ -87,6 +87,7 @@ mod tests {
             cols: &[],
             y: &fitted,
             quarters: &some,
+            extra: None,
         };
         let model = NoiseModel::white(0.005, 2.0);
         let draw = Draw::new(&data, &model).unwrap();

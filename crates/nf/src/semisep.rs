@@ -122,9 +122,10 @@ impl Windows {
         Some(w)
     }
 
-    /// The covariance of the window means under `model`, factored. `None` when it is not
-    /// numerically positive definite.
-    pub fn factor(self: &Arc<Self>, model: &NoiseModel) -> Option<Semisep> {
+    /// The covariance of the window means under `model`, with `extra[i]` added to window
+    /// `i`'s variance (caller's order: a disturbance of that window's mean alone, as a
+    /// shock's), factored. `None` when it is not numerically positive definite.
+    pub fn factor(self: &Arc<Self>, model: &NoiseModel, extra: Option<&[f64]>) -> Option<Semisep> {
         // Every rung of flicker's ladder has the variance `h ln 10 / PER_DECADE`.
         let rung_var = 2.0 * model.flicker_h() * LN_10 / PER_DECADE as f64;
         let m = if rung_var > 0.0 { self.rungs.len() } else { 0 };
@@ -138,7 +139,8 @@ impl Windows {
         let rung_sd = rung_var.sqrt();
         let fill = |k: usize, row: &mut Row| {
             let len = self.len[k];
-            row.diag = model.independent_var(len) + rung_var * self.ladder_var[k];
+            row.diag =
+                model.independent_var(len) + rung_var * self.ladder_var[k] + extra.map_or(0.0, |e| e[self.order[k]]);
             for j in 0..m {
                 row.u[j] = rung_sd * self.gain[k * self.rungs.len() + j];
                 row.v[j] = row.u[j];
@@ -181,7 +183,7 @@ impl Semisep {
     /// goes through `gls::WindowSet`, which keeps the windows for other models.)
     #[cfg(test)]
     pub fn of_windows(model: &NoiseModel, t_s: &[f64], dwell_s: &[f64]) -> Option<Semisep> {
-        Arc::new(Windows::new(t_s, dwell_s)?).factor(model)
+        Arc::new(Windows::new(t_s, dwell_s)?).factor(model, None)
     }
 
     /// The recursion of the `L D L^T` factor, one window at a time; `fill` writes a window's

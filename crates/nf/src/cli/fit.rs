@@ -184,6 +184,17 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     if matches!(g.source, NoiseSource::Estimated { .. }) {
         writeln!(out, "               {STATIC_LOG_HINT}")?;
     }
+    if let Some(s) = &g.shocks {
+        writeln!(
+            out,
+            "shocks         {} of {} dwells read as struck (a share of {:.2}, a shift of sd {:.5} deg/h; lines {}): each dwell weighed by how likely a shock struck it",
+            s.struck.len(),
+            an.fit.n,
+            s.share,
+            s.shift_dph,
+            lines_text(&s.struck)
+        )?;
+    }
     writeln!(
         out,
         "white LS       psi {:.5} deg +- {:.2} arcsec (sigma from the residuals, {} dof: too small when the noise is coloured)",
@@ -355,4 +366,14 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
             log_y: false,
         },
     ]
+}
+
+/// Up to ten line numbers, and how many more.
+fn lines_text(lines: &[usize]) -> String {
+    let shown: Vec<String> = lines.iter().take(10).map(|l| l.to_string()).collect();
+    match lines.len() {
+        0 => "none".into(),
+        k if k > 10 => format!("{}, and {} more", shown.join(", "), k - 10),
+        _ => shown.join(", "),
+    }
 }

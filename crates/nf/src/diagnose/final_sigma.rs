@@ -49,6 +49,7 @@ pub fn final_sigma(d: &Data, cols: &[Vec<f64>], y: &[f64], replicates: usize) ->
         cols: &design,
         y,
         quarters: &quarters,
+        extra: None,
     };
     let e = noise_est::estimate(data.clone(), Colours::FlickerAndWalk)?;
     let verdict = averaged(&e)?;

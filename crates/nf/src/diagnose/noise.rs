@@ -232,6 +232,7 @@ fn estimates(
             cols: &thinned.designs[0],
             y: &thinned.y,
             quarters,
+            extra: None,
         },
         &more,
         noise_est::Colours::WithGaussMarkov,

@@ -101,11 +101,24 @@ struct NoiseModelJson {
     quantization_arcsec: f64,
     /// Rate random walk K, deg/h/sqrt(h).
     rrw_dph_rth: f64,
+    /// Where the dwell means are heavy-tailed: the shocks each dwell was weighed through
+    /// (null otherwise).
+    shocks: Option<ShocksJson>,
     /// The factor a parametric bootstrap scaled the azimuth's sigma by (an estimated model
     /// only; null when given or when no replicate could be drawn).
     sigma_calibration: Option<f64>,
     /// Where the model came from: the flags, a file, or estimated from the recording.
     source: String,
+}
+
+#[derive(Serialize)]
+struct ShocksJson {
+    /// The share of dwells a shock struck.
+    share: f64,
+    /// Standard deviation of a shock's shift of a dwell mean, deg/h.
+    shift_dph: f64,
+    /// Lines of the dwells more likely struck than not.
+    struck_lines: Vec<usize>,
 }
 
 /// The white-noise least-squares fit.
@@ -173,6 +186,11 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
             gm_tau_s: m.gm_tau_s,
             quantization_arcsec: m.quantization_arcsec,
             rrw_dph_rth: m.rrw_dph_rth,
+            shocks: g.shocks.as_ref().map(|s| ShocksJson {
+                share: s.share,
+                shift_dph: s.shift_dph,
+                struck_lines: s.struck.clone(),
+            }),
             sigma_calibration: match &g.source {
                 NoiseSource::Estimated { calibration, .. } => calibration.map(|c| c.psi),
                 NoiseSource::Given(_) => None,
