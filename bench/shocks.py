@@ -2,8 +2,9 @@
 """`nf fit` through shocks: twin recordings (`nf simulate`) whose dwell means shocks strike, and
 control cases without them; the RMS error, the RMS of error/sigma and the count beyond 3 sigma
 of each binary given, and in how many recordings the fit weighed the dwells through shocks.
+With --diagnose, of `nf diagnose`'s final azimuth instead.
 
-    python3 bench/shocks.py RUNS NF [NF_BEFORE] [CASE ...]
+    python3 bench/shocks.py RUNS NF [NF_BEFORE] [CASE ...] [--diagnose]
 
 CASE is the letter of a case below (all by default). 72 positions of 2 s (36 of 1 s in H), the
 paper's gyro (0.005 deg/h for a 2 s mean), latitude 43.8, level, psi drawn per seed.
@@ -24,16 +25,24 @@ CASES = {
 }
 
 
-def fit(nf, path, psi):
-    out = subprocess.run([nf, "fit", path, "--json"], capture_output=True, text=True, check=True).stdout
+def fit(nf, path, psi, diagnose):
+    out = subprocess.run([nf, "diagnose" if diagnose else "fit", path, "--json"], capture_output=True, text=True,
+                         check=True).stdout
     j = json.loads(out)
+    if diagnose:
+        through = any("fitted through shocks" in n for n in j["notes"])
+        j = j["final"]
+    else:
+        through = j["noise_model"].get("shocks") is not None
     err = ((j["azimuth_deg"] - psi + 180) % 360 - 180) * 3600
-    return err, j["sigma_arcsec"], j["noise_model"].get("shocks") is not None
+    return err, j["sigma_arcsec"], through
 
 
 def main():
-    runs, binaries = int(sys.argv[1]), [a for a in sys.argv[2:] if len(a) > 1]
-    only = [a for a in sys.argv[2:] if len(a) == 1]
+    diagnose = "--diagnose" in sys.argv
+    args = [a for a in sys.argv[2:] if a != "--diagnose"]
+    runs, binaries = int(sys.argv[1]), [a for a in args if len(a) > 1]
+    only = [a for a in args if len(a) == 1]
     with tempfile.TemporaryDirectory() as tmp:
         for key, (name, args) in CASES.items():
             if only and key not in only:
@@ -47,7 +56,7 @@ def main():
                 subprocess.run([binaries[0], "simulate", *args, "--psi", str(psi), "--seed", str(seed),
                                 "--tilt", "0", "-o", path], capture_output=True, check=True)
                 for k, nf in enumerate(binaries):
-                    e, s, through = fit(nf, path, psi)
+                    e, s, through = fit(nf, path, psi, diagnose)
                     rows[k].append((e, s))
                     fitted += through and k == 0
             cells = []

@@ -264,6 +264,20 @@ fn shocked_dwells_are_named_in_the_fit_and_white_ones_are_not() {
     assert!(struck.iter().all(|l| l.as_u64().unwrap() > 3), "{s}");
     let (_, text, _) = nf(&["fit", &shocked]);
     assert!(text.contains("dwells read as struck"), "{text}");
+    // diagnose's final goes through the shocks too, and lands where the fit does.
+    let (psi, sigma) = (j["azimuth_deg"].as_f64().unwrap(), j["sigma_arcsec"].as_f64().unwrap());
+    let (code, out, err) = nf(&["diagnose", &shocked, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let d: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let through = d["notes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|n| n.as_str().unwrap().contains("fitted through shocks"));
+    assert!(through, "{}", d["notes"]);
+    let fin = &d["final"];
+    let off = wrap_180(fin["azimuth_deg"].as_f64().unwrap() - psi).abs() * 3600.0;
+    assert!(off < sigma, "diagnose {fin} against the fit's {psi} +- {sigma}\"");
     let (code, out, err) = nf(&["fit", &calm, "--json"]);
     assert_eq!(code, 0, "{err}");
     let j: serde_json::Value = serde_json::from_str(&out).unwrap();

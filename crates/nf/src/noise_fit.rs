@@ -202,15 +202,8 @@ pub fn fit(
         .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
     let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
     // Heavy-tailed dwell means: each weighed by how likely a shock struck it.
-    let through = match choice {
-        _ if colours != Colours::WithShocks => None,
-        NoiseChoice::Given(..) => shock_fit::fit(&windows, &model, false, &cols, y).map(|sf| Through {
-            verdict: azimuth(&sf.gls.coef, &sf.gls.cov),
-            model,
-            gls: sf.gls.clone(),
-            shocks: sf,
-        }),
-        NoiseChoice::Estimate if n <= noise_est::THINNED => {
+    let through = (colours == Colours::WithShocks)
+        .then(|| {
             let data = Data {
                 t_s: &t,
                 dwell_s,
@@ -219,10 +212,9 @@ pub fn fit(
                 quarters: &quarters,
                 extra: None,
             };
-            through_shocks(&data, &windows, &model, &rec.rows)
-        }
-        NoiseChoice::Estimate => None,
-    };
+            through(&data, &windows, &model, choice, &rec.rows)
+        })
+        .flatten();
     let (v, g, model, shocks) = match through {
         Some(th) => {
             // What the Gaussian fit's sigmas carry beyond its own GLS (the spread of the noise
@@ -261,11 +253,35 @@ pub fn fit(
 }
 
 /// A fit through shocks: the azimuth, the noise model, the fit's GLS and the shocks.
-struct Through {
-    verdict: Verdict,
-    model: NoiseModel,
-    gls: gls::Gls,
-    shocks: ShockFit,
+pub(crate) struct Through {
+    pub verdict: Verdict,
+    pub model: NoiseModel,
+    pub gls: gls::Gls,
+    pub shocks: ShockFit,
+}
+
+/// The fit of `data` through shocks, from the Gaussian fit's noise `model` and how it was
+/// chosen: a given model keeps its terms and scale, and only the shocks are fitted beside it;
+/// an estimated one is estimated again beside them ([`through_shocks`]). `rows` are the
+/// recording's, in `data`'s order. `None` past [`noise_est::THINNED`] estimated rows, or where
+/// no dwell stands out.
+pub(crate) fn through(
+    data: &Data<'_>,
+    windows: &WindowSet,
+    model: &NoiseModel,
+    choice: &NoiseChoice,
+    rows: &[Row],
+) -> Option<Through> {
+    match choice {
+        NoiseChoice::Given(..) => shock_fit::fit(windows, model, false, data.cols, data.y).map(|sf| Through {
+            verdict: azimuth(&sf.gls.coef, &sf.gls.cov),
+            model: *model,
+            gls: sf.gls.clone(),
+            shocks: sf,
+        }),
+        NoiseChoice::Estimate if data.y.len() <= noise_est::THINNED => through_shocks(data, windows, model, rows),
+        NoiseChoice::Estimate => None,
+    }
 }
 
 /// Rounds of the shocks' EM and the noise estimate in turn.
@@ -379,10 +395,16 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
 /// [`SHOCK_TAILS`]) are shocks: the short Gauss-Markov family joins flicker and walk, so that
 /// their scatter beyond the quarters is not taken for wander.
 fn colours_of(cols: &[Vec<f64>], y: &[f64]) -> Colours {
-    match linfit::fit(cols, y) {
-        Some(ls) if tails::estimate(&ls.resid).heavy(SHOCK_TAILS) => Colours::WithShocks,
-        _ => Colours::FlickerAndWalk,
+    match heavy_tailed(cols, y) {
+        true => Colours::WithShocks,
+        false => Colours::FlickerAndWalk,
     }
+}
+
+/// Whether the least-squares residuals of `y ~ cols` have tails a Student-t explains better
+/// than the normal, at [`SHOCK_TAILS`].
+pub(crate) fn heavy_tailed(cols: &[Vec<f64>], y: &[f64]) -> bool {
+    linfit::fit(cols, y).is_some_and(|ls| tails::estimate(&ls.resid).heavy(SHOCK_TAILS))
 }
 
 /// The level of the tails' test that lets the shocks' family in.
@@ -470,4 +492,14 @@ pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, 
         ));
     }
     None
+}
+
+/// Up to ten line numbers, and how many more.
+pub fn lines_text(lines: &[usize]) -> String {
+    let shown: Vec<String> = lines.iter().take(10).map(|l| l.to_string()).collect();
+    match lines.len() {
+        0 => "none".into(),
+        k if k > 10 => format!("{}, and {} more", shown.join(", "), k - 10),
+        _ => shown.join(", "),
+    }
 }

@@ -4,7 +4,7 @@ use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
 use super::{Fail, angle5, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_calib;
-use crate::noise_fit::{NoiseChoice, NoiseSource};
+use crate::noise_fit::{NoiseChoice, NoiseSource, lines_text};
 use crate::plot;
 use crate::plot::{Panel, Series, Style};
 use crate::range::real;
@@ -366,14 +366,4 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
             log_y: false,
         },
     ]
-}
-
-/// Up to ten line numbers, and how many more.
-fn lines_text(lines: &[usize]) -> String {
-    let shown: Vec<String> = lines.iter().take(10).map(|l| l.to_string()).collect();
-    match lines.len() {
-        0 => "none".into(),
-        k if k > 10 => format!("{}, and {} more", shown.join(", "), k - 10),
-        _ => shown.join(", "),
-    }
 }

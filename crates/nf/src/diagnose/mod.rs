@@ -15,6 +15,7 @@ mod data;
 mod drift;
 mod effect;
 mod encoder;
+mod final_shocks;
 mod final_sigma;
 mod jump;
 mod kind;
@@ -212,14 +213,20 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     .run(start)?;
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
+    let final_cols: Vec<Vec<f64>> = sel.model.cols.iter().map(|c| c.raw.clone()).collect();
     let own = match opt.noise {
-        NoiseChoice::Estimate => {
-            let cols: Vec<Vec<f64>> = sel.model.cols.iter().map(|c| c.raw.clone()).collect();
-            final_sigma::final_sigma(&d, &cols, &sel.model.y, opt.replicates)
-        }
+        NoiseChoice::Estimate => final_sigma::final_sigma(&d, &final_cols, &sel.model.y, opt.replicates),
         _ => None,
     };
-    let mut final_ = noise_averaged(averaged, &sel.model, summary(&sel.fit), &noise, own.as_ref());
+    let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise);
+    let mut final_ = noise_averaged(
+        averaged,
+        &sel.model,
+        summary(&sel.fit),
+        &noise,
+        own.as_ref(),
+        shocks.as_ref().map(|t| &t.verdict),
+    );
     let s2 = sel.fit.s2();
     let cov: Vec<Vec<f64>> = sel
         .fit
@@ -310,6 +317,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         notes: tilt_warning
             .into_iter()
             .chain(notes::notes(&findings, &sel.rivals, &models, &d))
+            .chain(shocks.as_ref().map(|t| final_shocks::note(&d, &t.shocks)))
             .collect(),
         noise_model: noise.model,
         cautious_model: noise.cautious_model,
@@ -361,6 +369,7 @@ fn noise_averaged(
     main: Summary,
     noise: &noise::Noise,
     own: Option<&final_sigma::FinalSigma>,
+    shocks: Option<&noise_calib::Verdict>,
 ) -> Summary {
     let fits: Vec<(f64, Summary)> = noise
         .plausible
@@ -371,13 +380,18 @@ fn noise_averaged(
         })
         .collect();
     let total: f64 = fits.iter().map(|f| f.0).sum();
-    if fits.is_empty() || total <= 0.0 {
+    let none = fits.is_empty() || total <= 0.0;
+    if none && shocks.is_none() {
         return averaged;
     }
     let shift = |s: &Summary| nf_model::angle::wrap_180(s.azimuth_deg - main.azimuth_deg) * 3600.0;
-    let mean = fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total;
+    let mean = match none {
+        true => 0.0,
+        false => fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total,
+    };
     let var = match own {
         Some(o) => (o.verdict.sigma_psi_deg * 3600.0).powi(2),
+        None if none => main.sigma_arcsec.powi(2),
         None => {
             fits.iter()
                 .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
@@ -386,6 +400,16 @@ fn noise_averaged(
         }
     };
     let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
+    // Through shocks the selected model's azimuth moves to the shocks' fit, and its sigma
+    // keeps what the Gaussian one carried beyond the selected fit's own (as `nf fit`'s).
+    let (mean, var) = match shocks {
+        Some(v) => {
+            let carried = (var.sqrt() / main.sigma_arcsec).max(1.0);
+            let moved = nf_model::angle::wrap_180(v.psi_deg - main.azimuth_deg) * 3600.0;
+            (moved, (v.sigma_psi_deg * 3600.0 * carried).powi(2))
+        }
+        None => (mean, var),
+    };
     Summary {
         azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + mean / 3600.0),
         sigma_arcsec: (var + model_spread).sqrt(),
