@@ -2,7 +2,7 @@
 //! the recording, and the check that the Earth rate was resolved at all.
 
 use crate::diagnose::tails;
-use crate::gls::{self, Cov, WindowSet};
+use crate::gls::{self, WindowSet};
 use crate::linfit;
 use crate::noise_calib::{self, Calibration, Verdict};
 use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned, scaled};
@@ -162,22 +162,24 @@ pub fn fit(
     }
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
     let colours = colours_of(&cols, y);
+    let windows = WindowSet::new(&t, &vec![dwell_s; n]);
+    let data = Data {
+        t_s: &t,
+        dwell_s,
+        cols: &cols,
+        y,
+        quarters: &quarters,
+        extra: None,
+    };
     let (model, source, v) = match choice {
         NoiseChoice::Given(m, s) => {
-            let cov = Cov::of_windows(m, &t, &vec![dwell_s; n])
+            let cov = windows
+                .cov(m)
                 .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
             let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
             (*m, NoiseSource::Given(s.clone()), azimuth(&g.coef, &g.cov))
         }
         NoiseChoice::Estimate => {
-            let data = Data {
-                t_s: &t,
-                dwell_s,
-                cols: &cols,
-                y,
-                quarters: &quarters,
-                extra: None,
-            };
             let (e, one_in) =
                 estimate(data.clone(), colours).ok_or("the noise model could not be estimated from the recording")?;
             let j = judge(&e).ok_or("no noise model fits")?;
@@ -196,24 +198,13 @@ pub fn fit(
         }
     };
     // The whitened residuals of the chosen model tell whether it describes the recording.
-    let windows = WindowSet::new(&t, &vec![dwell_s; n]);
     let cov = windows
         .cov(&model)
         .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
     let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
     // Heavy-tailed dwell means: each weighed by how likely a shock struck it.
     let through = (colours == Colours::WithShocks)
-        .then(|| {
-            let data = Data {
-                t_s: &t,
-                dwell_s,
-                cols: &cols,
-                y,
-                quarters: &quarters,
-                extra: None,
-            };
-            through(&data, &windows, &model, choice, &rec.rows)
-        })
+        .then(|| through(&data, &windows, &model, choice, &rec.rows))
         .flatten();
     let (v, g, model, shocks) = match through {
         Some(th) => {

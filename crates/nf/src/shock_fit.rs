@@ -6,7 +6,7 @@
 //! EM, each dwell judged by its deletion residual (its rate against what the others predict
 //! for it under the noise model), so that a slow wander is not read as shocks.
 
-use crate::gls::{self, Gls, WindowSet};
+use crate::gls::{self, Cov, Gls, WindowSet};
 use crate::noise_est::scaled;
 use crate::stats::robust_sigma;
 use nf_model::noise::NoiseModel;
@@ -41,11 +41,12 @@ const MOST: f64 = 0.5;
 pub fn fit(windows: &WindowSet, model: &NoiseModel, rescale: bool, cols: &[Vec<f64>], y: &[f64]) -> Option<ShockFit> {
     let n = y.len();
     let mut extra = vec![0.0; n];
-    let mut g = gls::fit(cols, y, &windows.cov(model)?)?;
+    let mut cov = windows.cov(model)?;
+    let mut g = gls::fit(cols, y, &cov)?;
     // The calm dwells' scale starts from the deletion residuals' robust one: a Gaussian
     // estimate that took the shocks for its own fast noise may have left its white level
     // near zero.
-    let first = deletion(windows, model, &extra, &g)?;
+    let first = deletion(&cov, &extra, &g)?;
     let mut scale = match rescale {
         true => robust_sigma(first.iter().map(|d| d.resid / d.var.sqrt())).powi(2),
         false => 1.0,
@@ -57,9 +58,10 @@ pub fn fit(windows: &WindowSet, model: &NoiseModel, rescale: bool, cols: &[Vec<f
     // A tenth of the dwells struck by three times the calm sd, as `tails::shock_mix` starts.
     let (mut share, mut shift2) = (0.1, 9.0 * calm);
     let mut post = vec![0.0; n];
+    // The fit is the same under any scale of its covariance; the deletion variances are not.
+    cov = windows.cov(&scaled(model, scale))?;
     for _ in 0..ITERATIONS {
-        let now = scaled(model, scale);
-        let del = deletion(windows, &now, &extra, &g)?;
+        let del = deletion(&cov, &extra, &g)?;
         for (p, d) in post.iter_mut().zip(&del) {
             let struck = share * density(d.resid, d.var + shift2);
             let calm = (1.0 - share) * density(d.resid, d.var);
@@ -95,7 +97,8 @@ pub fn fit(windows: &WindowSet, model: &NoiseModel, rescale: bool, cols: &[Vec<f
         for ((e, d), p) in extra.iter_mut().zip(&del).zip(&post) {
             *e = 1.0 / ((1.0 - p) / d.var + p / (d.var + shift2)) - d.var;
         }
-        let next = gls::fit(cols, y, &windows.cov_plus(&scaled(model, scale), Some(&extra))?)?;
+        cov = windows.cov_plus(&scaled(model, scale), Some(&extra))?;
+        let next = gls::fit(cols, y, &cov)?;
         let moved = (0..next.coef.len())
             .map(|k| (next.coef[k] - g.coef[k]).abs() / next.cov[k][k].sqrt())
             .fold(0.0, f64::max);
@@ -121,10 +124,9 @@ struct Deletion {
     var: f64,
 }
 
-/// The deletion residuals of `g`'s residuals under `model` plus `extra`: `(S^-1 r)_i /
-/// (S^-1)_ii`, of variance `1 / (S^-1)_ii`, less the dwell's own `extra`.
-fn deletion(windows: &WindowSet, model: &NoiseModel, extra: &[f64], g: &Gls) -> Option<Vec<Deletion>> {
-    let cov = windows.cov_plus(model, Some(extra))?;
+/// The deletion residuals of `g`'s residuals under `cov`, the noise model plus `extra`:
+/// `(S^-1 r)_i / (S^-1)_ii`, of variance `1 / (S^-1)_ii`, less the dwell's own `extra`.
+fn deletion(cov: &Cov, extra: &[f64], g: &Gls) -> Option<Vec<Deletion>> {
     let precise = cov.adjoint(&cov.whiten(&g.resid));
     let (diag, _) = cov.indicator_and_step_norms();
     (0..extra.len())
