@@ -171,30 +171,24 @@ pub fn fit(
         quarters: &quarters,
         extra: None,
     };
-    let (model, source, v) = match choice {
+    let (model, source, v, carried) = match choice {
         NoiseChoice::Given(m, s) => {
             let cov = windows
                 .cov(m)
                 .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
             let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
-            (*m, NoiseSource::Given(s.clone()), azimuth(&g.coef, &g.cov))
+            (*m, NoiseSource::Given(s.clone()), azimuth(&g.coef, &g.cov), (1.0, 1.0))
         }
         NoiseChoice::Estimate => {
-            let (e, one_in) =
-                estimate(data.clone(), colours).ok_or("the noise model could not be estimated from the recording")?;
-            let j = judge(&e).ok_or("no noise model fits")?;
-            // Replicates from the supported model, fitted the same way, calibrate the sigma.
-            let judge_replica = |d: Data<'_>| estimate(d, colours).and_then(|(e, _)| judge(&e)).map(|j| j.verdict);
-            let calibration = noise_calib::calibrate(&data, &j.model, &j.coef, &j.verdict, replicates, judge_replica);
-            let v = j.verdict.calibrated(calibration);
+            let g = gaussian(&data, colours, replicates)?;
             let source = NoiseSource::Estimated {
-                dof: e.dof,
+                dof: g.dof,
                 from_quarters: quarters.len(),
-                one_in,
-                calibration,
+                one_in: g.one_in,
+                calibration: g.calibration,
                 colours,
             };
-            (j.model, source, v)
+            (g.judged.model, source, g.verdict, g.carried())
         }
     };
     // The whitened residuals of the chosen model tell whether it describes the recording.
@@ -204,20 +198,11 @@ pub fn fit(
     let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
     // Heavy-tailed dwell means: each weighed by how likely a shock struck it.
     let through = (colours == Colours::WithShocks)
-        .then(|| through(&data, &windows, &model, choice, &rec.rows))
+        .then(|| through(&data, &windows, &model, choice, &rec.rows, carried))
         .flatten();
     let (v, g, model, shocks) = match through {
         Some(th) => {
-            // What the Gaussian fit's sigmas carry beyond its own GLS (the spread of the noise
-            // models the recording allows, the replicates' calibration) is carried over.
-            let own = azimuth(&g.coef, &g.cov);
-            let carried = |total: f64, own: f64| (total / own).max(1.0);
-            let r = th.verdict;
-            let v = Verdict {
-                sigma_psi_deg: r.sigma_psi_deg * carried(v.sigma_psi_deg, own.sigma_psi_deg),
-                sigma_amplitude_dph: r.sigma_amplitude_dph * carried(v.sigma_amplitude_dph, own.sigma_amplitude_dph),
-                ..r
-            };
+            let v = th.verdict;
             let shocks = Shocks {
                 share: th.shocks.share,
                 shift_dph: th.shocks.shift_dph,
@@ -262,8 +247,9 @@ pub(crate) fn through(
     model: &NoiseModel,
     choice: &NoiseChoice,
     rows: &[Row],
+    carried: (f64, f64),
 ) -> Option<Through> {
-    match choice {
+    let th = match choice {
         NoiseChoice::Given(..) => shock_fit::fit(windows, model, false, data.cols, data.y).map(|sf| Through {
             verdict: azimuth(&sf.gls.coef, &sf.gls.cov),
             model: *model,
@@ -272,6 +258,55 @@ pub(crate) fn through(
         }),
         NoiseChoice::Estimate if data.y.len() <= noise_est::THINNED => through_shocks(data, windows, model, rows),
         NoiseChoice::Estimate => None,
+    }?;
+    let v = th.verdict;
+    Some(Through {
+        verdict: Verdict {
+            sigma_psi_deg: v.sigma_psi_deg * carried.0,
+            sigma_amplitude_dph: v.sigma_amplitude_dph * carried.1,
+            ..v
+        },
+        ..th
+    })
+}
+
+/// The noise estimated from the recording by the Gaussian likelihood: the supported model,
+/// its verdict (with the grid's spread) calibrated by replicates, and the estimate's size.
+pub(crate) struct Gaussian {
+    pub judged: Judged,
+    pub calibration: Option<Calibration>,
+    pub verdict: Verdict,
+    pub dof: usize,
+    pub one_in: usize,
+}
+
+/// The Gaussian estimate of `data` under `colours`, its sigma calibrated by `replicates`
+/// replicates drawn from the supported model and fitted the same way.
+pub(crate) fn gaussian(data: &Data<'_>, colours: Colours, replicates: usize) -> Result<Gaussian, &'static str> {
+    let (e, one_in) =
+        estimate(data.clone(), colours).ok_or("the noise model could not be estimated from the recording")?;
+    let j = judge(&e).ok_or("no noise model fits")?;
+    let judge_replica = |d: Data<'_>| estimate(d, colours).and_then(|(e, _)| judge(&e)).map(|j| j.verdict);
+    let calibration = noise_calib::calibrate(data, &j.model, &j.coef, &j.verdict, replicates, judge_replica);
+    Ok(Gaussian {
+        verdict: j.verdict.calibrated(calibration),
+        judged: j,
+        calibration,
+        dof: e.dof,
+        one_in,
+    })
+}
+
+impl Gaussian {
+    /// What the sigmas carry beyond the supported model's own GLS (the spread of the noise
+    /// models the recording allows, the replicates' calibration): a fit through shocks keeps
+    /// it.
+    pub fn carried(&self) -> (f64, f64) {
+        let (v, own) = (&self.verdict, &self.judged.own);
+        (
+            (v.sigma_psi_deg / own.sigma_psi_deg).max(1.0),
+            (v.sigma_amplitude_dph / own.sigma_amplitude_dph).max(1.0),
+        )
     }
 }
 
@@ -408,10 +443,12 @@ const NEGLIGIBLE: f64 = 1e-3;
 /// coefficients and azimuth, and the variance of the most likely model plus the spread of the
 /// grid models' azimuths about the chosen one (weighted by their likelihood), which carries
 /// how poorly one recording pins its noise down.
-struct Judged {
-    model: NoiseModel,
+pub(crate) struct Judged {
+    pub model: NoiseModel,
     coef: Vec<f64>,
     verdict: Verdict,
+    /// The supported model's own GLS verdict.
+    own: Verdict,
 }
 
 fn judge(e: &Estimate) -> Option<Judged> {
@@ -437,6 +474,7 @@ fn judge(e: &Estimate) -> Option<Judged> {
             sigma_amplitude_dph: var_amp.sqrt(),
             ..chosen
         },
+        own: chosen,
     })
 }
 

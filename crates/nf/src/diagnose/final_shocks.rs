@@ -11,11 +11,18 @@ use crate::shock_fit::ShockFit;
 use nf_model::noise::NoiseModel;
 
 /// The fit of `y ~ cols` (the final model) through shocks, under the given noise `model` or,
-/// as `nf fit` starts, from the Gaussian estimate that reads the shocks as a short
-/// Gauss-Markov bias (the tests' estimate may have read them as flicker, and the shocks' EM
-/// under that finds few); `None` where the dwell means are not heavy-tailed or no dwell
-/// stands out.
-pub fn through(d: &Data, cols: &[Vec<f64>], y: &[f64], model: &NoiseModel, choice: &NoiseChoice) -> Option<Through> {
+/// as `nf fit` fits, from the Gaussian estimate that reads the shocks as a short Gauss-Markov
+/// bias (the tests' estimate may have read them as flicker, and the shocks' EM under that
+/// finds few), its sigma keeping what that estimate's carried beyond its own GLS (`replicates`
+/// calibrate it); `None` where the dwell means are not heavy-tailed or no dwell stands out.
+pub fn through(
+    d: &Data,
+    cols: &[Vec<f64>],
+    y: &[f64],
+    model: &NoiseModel,
+    choice: &NoiseChoice,
+    replicates: usize,
+) -> Option<Through> {
     if !noise_fit::heavy_tailed(cols, y) {
         return None;
     }
@@ -29,16 +36,14 @@ pub fn through(d: &Data, cols: &[Vec<f64>], y: &[f64], model: &NoiseModel, choic
         extra: None,
     };
     let windows = WindowSet::new(&d.t, &vec![dwell_s; d.n()]);
-    let start = match choice {
-        NoiseChoice::Given(..) => *model,
+    let (start, carried) = match choice {
+        NoiseChoice::Given(..) => (*model, (1.0, 1.0)),
         NoiseChoice::Estimate => {
-            noise_est::estimate(data.clone(), Colours::WithShocks)?
-                .supported()
-                .0
-                .model
+            let g = noise_fit::gaussian(&data, Colours::WithShocks, replicates).ok()?;
+            (g.judged.model, g.carried())
         }
     };
-    noise_fit::through(&data, &windows, &start, choice, &d.rec.rows)
+    noise_fit::through(&data, &windows, &start, choice, &d.rec.rows, carried)
 }
 
 /// What the report says of the shocks.

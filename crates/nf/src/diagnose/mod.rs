@@ -218,7 +218,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         NoiseChoice::Estimate => final_sigma::final_sigma(&d, &final_cols, &sel.model.y, opt.replicates),
         _ => None,
     };
-    let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise);
+    let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise, opt.replicates);
     let mut final_ = noise_averaged(
         averaged,
         &sel.model,
@@ -400,13 +400,12 @@ fn noise_averaged(
         }
     };
     let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
-    // Through shocks the selected model's azimuth moves to the shocks' fit, and its sigma
-    // keeps what the Gaussian one carried beyond the selected fit's own (as `nf fit`'s).
+    // Through shocks the selected model's azimuth and sigma are the shocks' fit's (as `nf
+    // fit`'s).
     let (mean, var) = match shocks {
         Some(v) => {
-            let carried = (var.sqrt() / main.sigma_arcsec).max(1.0);
             let moved = nf_model::angle::wrap_180(v.psi_deg - main.azimuth_deg) * 3600.0;
-            (moved, (v.sigma_psi_deg * 3600.0 * carried).powi(2))
+            (moved, (v.sigma_psi_deg * 3600.0).powi(2))
         }
         None => (mean, var),
     };
