@@ -362,7 +362,8 @@ fn measured_tails(d: &Data, design: Vec<Vec<f64>>, y: &[f64], w: &Whitener) -> (
 /// The averaged result with the noise model's own uncertainty added: the selected model is
 /// fitted under every noise model the recording allows and averaged by their likelihoods
 /// (as `nf fit` does), and the spread the model averaging added is kept on top. The sigma
-/// under the noise is `own`'s where there is one.
+/// under the noise is `own`'s where there is one. Through shocks, the selected model's
+/// azimuth and sigma are those of its fit through them instead.
 fn noise_averaged(
     averaged: Summary,
     selected: &Model,
@@ -371,6 +372,17 @@ fn noise_averaged(
     own: Option<&final_sigma::FinalSigma>,
     shocks: Option<&noise_calib::Verdict>,
 ) -> Summary {
+    let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
+    // Through shocks the selected model's azimuth and sigma are the shocks' fit's (as `nf
+    // fit`'s).
+    if let Some(v) = shocks {
+        let moved = nf_model::angle::wrap_180(v.psi_deg - main.azimuth_deg);
+        return Summary {
+            azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + moved),
+            sigma_arcsec: ((v.sigma_psi_deg * 3600.0).powi(2) + model_spread).sqrt(),
+            ..averaged
+        };
+    }
     let fits: Vec<(f64, Summary)> = noise
         .plausible
         .iter()
@@ -380,34 +392,19 @@ fn noise_averaged(
         })
         .collect();
     let total: f64 = fits.iter().map(|f| f.0).sum();
-    let none = fits.is_empty() || total <= 0.0;
-    if none && shocks.is_none() {
+    if fits.is_empty() || total <= 0.0 {
         return averaged;
     }
     let shift = |s: &Summary| nf_model::angle::wrap_180(s.azimuth_deg - main.azimuth_deg) * 3600.0;
-    let mean = match none {
-        true => 0.0,
-        false => fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total,
-    };
+    let mean = fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total;
     let var = match own {
         Some(o) => (o.verdict.sigma_psi_deg * 3600.0).powi(2),
-        None if none => main.sigma_arcsec.powi(2),
         None => {
             fits.iter()
                 .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
                 .sum::<f64>()
                 / total
         }
-    };
-    let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
-    // Through shocks the selected model's azimuth and sigma are the shocks' fit's (as `nf
-    // fit`'s).
-    let (mean, var) = match shocks {
-        Some(v) => {
-            let moved = nf_model::angle::wrap_180(v.psi_deg - main.azimuth_deg) * 3600.0;
-            (moved, (v.sigma_psi_deg * 3600.0).powi(2))
-        }
-        None => (mean, var),
     };
     Summary {
         azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + mean / 3600.0),
