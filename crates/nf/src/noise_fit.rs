@@ -234,6 +234,10 @@ pub(crate) struct Through {
     pub model: NoiseModel,
     pub gls: gls::Gls,
     pub shocks: ShockFit,
+    /// The noise estimated again beside the shocks (`None`: the model was given).
+    pub estimate: Option<Estimate>,
+    /// What the azimuth's sigma carries beyond this fit's own ([`Gaussian::carried`]).
+    pub carried: f64,
 }
 
 /// The fit of `data` through shocks, from the Gaussian fit's noise `model` and how it was
@@ -255,6 +259,8 @@ pub(crate) fn through(
             model: *model,
             gls: sf.gls.clone(),
             shocks: sf,
+            estimate: None,
+            carried: 1.0,
         }),
         NoiseChoice::Estimate if data.y.len() <= noise_est::THINNED => through_shocks(data, windows, model, rows),
         NoiseChoice::Estimate => None,
@@ -266,6 +272,7 @@ pub(crate) fn through(
             sigma_amplitude_dph: v.sigma_amplitude_dph * carried.1,
             ..v
         },
+        carried: carried.0,
         ..th
     })
 }
@@ -372,6 +379,8 @@ fn shock_round(
         model: j.model,
         gls,
         shocks: sf,
+        estimate: Some(e),
+        carried: 1.0,
     })
 }
 
@@ -421,16 +430,18 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
 /// [`SHOCK_TAILS`]) are shocks: the short Gauss-Markov family joins flicker and walk, so that
 /// their scatter beyond the quarters is not taken for wander.
 fn colours_of(cols: &[Vec<f64>], y: &[f64]) -> Colours {
-    match heavy_tailed(cols, y) {
-        true => Colours::WithShocks,
-        false => Colours::FlickerAndWalk,
+    match shock_tails(cols, y) {
+        Some(_) => Colours::WithShocks,
+        None => Colours::FlickerAndWalk,
     }
 }
 
-/// Whether the least-squares residuals of `y ~ cols` have tails a Student-t explains better
-/// than the normal, at [`SHOCK_TAILS`].
-pub(crate) fn heavy_tailed(cols: &[Vec<f64>], y: &[f64]) -> bool {
-    linfit::fit(cols, y).is_some_and(|ls| tails::estimate(&ls.resid).heavy(SHOCK_TAILS))
+/// The tails of the least-squares residuals of `y ~ cols` where a Student-t explains them
+/// better than the normal, at [`SHOCK_TAILS`].
+pub(crate) fn shock_tails(cols: &[Vec<f64>], y: &[f64]) -> Option<tails::Tails> {
+    linfit::fit(cols, y)
+        .map(|ls| tails::estimate(&ls.resid))
+        .filter(|t| t.heavy(SHOCK_TAILS))
 }
 
 /// The level of the tails' test that lets the shocks' family in.

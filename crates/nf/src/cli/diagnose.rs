@@ -257,9 +257,13 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         writeln!(out, "     every effect judged under the given model")?;
     }
     if d.noise_with_effects != d.noise_model {
+        let how = match d.through_shocks {
+            true => "beside the shocks, with the final model's columns",
+            false => "with the named effects in the design",
+        };
         writeln!(
             out,
-            "     with the named effects in the design (the noise terms below are its): N {:.3e} deg/sqrt(h), {}",
+            "     {how} (the noise terms below are its): N {:.3e} deg/sqrt(h), {}",
             d.noise_with_effects.arw_deg_rth,
             colour_text(&d.noise_with_effects)
         )?;
@@ -327,9 +331,15 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         )?,
         None => writeln!(
             out,
-            "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights and refitted under every noise model the recording allows: the sigma holds the wander one run cannot rule out)",
+            "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights and {})",
             angle5(fz.azimuth_deg),
-            fz.sigma_arcsec
+            fz.sigma_arcsec,
+            match d.through_shocks {
+                true => "fitted through the shocks",
+                false => {
+                    "refitted under every noise model the recording allows: the sigma holds the wander one run cannot rule out"
+                }
+            }
         )?,
     }
     for n in &d.notes {

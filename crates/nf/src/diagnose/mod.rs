@@ -101,8 +101,11 @@ pub struct Diagnosis {
     /// temperature are judged.
     pub drift_model: NoiseModel,
     /// The model estimated again with the named effects' columns in the design (the first
-    /// model where none was named, or the noise was given): the noise terms named are its.
+    /// model where none was named, or the noise was given; beside the shocks where the final
+    /// was fitted through them): the noise terms named are its.
     pub noise_with_effects: NoiseModel,
+    /// Whether the final azimuth was fitted through shocks (heavy-tailed dwell means).
+    pub through_shocks: bool,
     /// Whether drift, jump, temperature, encoder harmonics and the 2 psi harmonic were also
     /// asked of the wander test (the noise re-estimated with and without each): up to 2000
     /// positions, whether the noise is estimated or given.
@@ -214,18 +217,19 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
     let final_cols: Vec<Vec<f64>> = sel.model.cols.iter().map(|c| c.raw.clone()).collect();
-    let own = match opt.noise {
-        NoiseChoice::Estimate => final_sigma::final_sigma(&d, &final_cols, &sel.model.y, opt.replicates),
+    let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise, opt.replicates);
+    // Through shocks the sigma is the shocks' fit's; else the noise's with the final columns.
+    let own = match (&opt.noise, &shocks) {
+        (NoiseChoice::Estimate, None) => final_sigma::final_sigma(&d, &final_cols, &sel.model.y, opt.replicates),
         _ => None,
     };
-    let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise, opt.replicates);
     let mut final_ = noise_averaged(
         averaged,
         &sel.model,
         summary(&sel.fit),
         &noise,
         own.as_ref(),
-        shocks.as_ref().map(|t| &t.verdict),
+        shocks.as_ref().map(|s| &s.through.verdict),
     );
     let s2 = sel.fit.s2();
     let cov: Vec<Vec<f64>> = sel
@@ -235,9 +239,11 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         .map(|r| r.iter().map(|c| c * s2).collect())
         .collect();
     let amp = crate::noise_fit::azimuth(&sel.fit.coef, &cov);
-    let sigma_amplitude = own
-        .as_ref()
-        .map_or(amp.sigma_amplitude_dph, |o| o.verdict.sigma_amplitude_dph);
+    let sigma_amplitude = match (&shocks, &own) {
+        (Some(s), _) => s.through.verdict.sigma_amplitude_dph,
+        (None, Some(o)) => o.verdict.sigma_amplitude_dph,
+        (None, None) => amp.sigma_amplitude_dph,
+    };
     let (carried, sigma_amplitude) = sensitivity.carried(final_.sigma_arcsec / 3600.0, sigma_amplitude);
     // The tilt circle is measured apart from the gyro: its uncertainty adds.
     final_.sigma_arcsec = (carried * 3600.0).hypot(tilt_sigma_arcsec);
@@ -271,7 +277,23 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         }
         None => (noise.model, noise.terms.clone(), tails, rate_resid),
     };
-    let mut findings = noise::findings(&terms, &tails, &rate_resid, opt.alpha / 2.0);
+    // Through shocks, the noise estimated again beside them is the one whose colours are named.
+    let beside_shocks = shocks
+        .as_ref()
+        .and_then(|s| Some((s.through.model, s.through.estimate.as_ref()?)));
+    let (noise_with_effects, terms, whence) = match beside_shocks {
+        Some((model, e)) => (
+            model,
+            noise::supported(e, opt.alpha).1,
+            "estimated again beside the shocks",
+        ),
+        None => (noise_with_effects, terms, "whitened by this model in every test"),
+    };
+    let mut findings = noise::findings(&terms, whence);
+    findings.extend(match &shocks {
+        Some(s) => Some(s.finding(&d)),
+        None => noise::tails_finding(&tails, &rate_resid, opt.alpha / 2.0),
+    });
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either, nor
     // white noise: whole dwells that scatter more than their quarters say (shocks) make the
@@ -317,7 +339,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         notes: tilt_warning
             .into_iter()
             .chain(notes::notes(&findings, &sel.rivals, &models, &d))
-            .chain(shocks.as_ref().map(|t| final_shocks::note(&d, &t.shocks)))
+            .chain(shocks.as_ref().map(|s| s.note(&d)))
             .collect(),
         noise_model: noise.model,
         cautious_model: noise.cautious_model,
@@ -325,8 +347,15 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_with_effects,
         wander_tested: noise.wander.is_some(),
         noise_source: noise.source,
-        final_sigma_from: own.as_ref().map(final_sigma::FinalSigma::describe),
-        sigma_calibration: own.as_ref().and_then(|o| o.calibration).map(|c| c.psi),
+        final_sigma_from: match &shocks {
+            Some(s) => Some(s.describe()),
+            None => own.as_ref().map(final_sigma::FinalSigma::describe),
+        },
+        through_shocks: shocks.is_some(),
+        sigma_calibration: match &shocks {
+            Some(s) => s.calibration,
+            None => own.as_ref().and_then(|o| o.calibration).map(|c| c.psi),
+        },
         noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: summary(&base),
         findings,

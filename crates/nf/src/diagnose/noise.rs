@@ -242,7 +242,7 @@ fn estimates(
 
 /// The model the likelihood supports, and its colour terms significant at `alpha` (over the
 /// three) as findings.
-fn supported(e: &noise_est::Estimate, alpha: f64) -> (NoiseModel, Vec<NoiseTerm>) {
+pub(super) fn supported(e: &noise_est::Estimate, alpha: f64) -> (NoiseModel, Vec<NoiseTerm>) {
     let (chosen, tests) = e.supported();
     let model = chosen.model;
     let terms = tests
@@ -387,41 +387,45 @@ fn allan_parameters(m: &NoiseModel, grid: &[Candidate], top: f64) -> Vec<Param> 
 /// The RMS shift shocks give a dwell mean, deg/h: a heavy-tails finding's size.
 pub const SHOCK_RMS: &str = "shock_rms_dph";
 
-/// The noise terms and the tails as findings, first in the list.
-/// `rate_resid`, the rates' residuals of the fit the tails were judged on, size the shocks.
-pub fn findings(terms: &[NoiseTerm], tails: &Tails, rate_resid: &[f64], level: f64) -> Vec<Finding> {
-    let after = Summary {
-        azimuth_deg: f64::NAN,
-        rss: f64::NAN,
-        sigma_arcsec: f64::NAN,
-    };
-    let mut out: Vec<Finding> = terms
+const NO_FIT: Summary = Summary {
+    azimuth_deg: f64::NAN,
+    rss: f64::NAN,
+    sigma_arcsec: f64::NAN,
+};
+
+/// The noise terms as findings, found in the dwell means and quarters by `whence`.
+pub fn findings(terms: &[NoiseTerm], whence: &str) -> Vec<Finding> {
+    terms
         .iter()
         .map(|t| Finding {
             effect: t.kind,
             parameters: t.parameters.clone(),
             p_value: t.p,
-            location: "the dwell means in time order and the quarter means: whitened by this model in every test"
-                .into(),
-            after,
+            location: format!("the dwell means in time order and the quarter means: {whence}"),
+            after: NO_FIT,
         })
-        .collect();
-    if tails.heavy(level) {
-        let mut parameters = vec![param("student_t_dof", tails.dof, None)];
-        if let Some(m) = shock_mix(rate_resid) {
-            parameters.extend([
-                param("shock_share", m.share, None),
-                param("shock_shift_dph", m.shift, None),
-                param(SHOCK_RMS, m.share.sqrt() * m.shift, None),
-            ]);
-        }
-        out.push(Finding {
-            effect: Kind::HeavyTails,
-            parameters,
-            p_value: tails.p,
-            location: "the whitened residuals: the outlier test is judged under every tail they allow".into(),
-            after,
-        });
+        .collect()
+}
+
+/// The tails as a finding where they are heavy at `level`. `rate_resid`, the rates' residuals
+/// of the fit the tails were judged on, size the shocks.
+pub fn tails_finding(tails: &Tails, rate_resid: &[f64], level: f64) -> Option<Finding> {
+    if !tails.heavy(level) {
+        return None;
     }
-    out
+    let mut parameters = vec![param("student_t_dof", tails.dof, None)];
+    if let Some(m) = shock_mix(rate_resid) {
+        parameters.extend([
+            param("shock_share", m.share, None),
+            param("shock_shift_dph", m.shift, None),
+            param(SHOCK_RMS, m.share.sqrt() * m.shift, None),
+        ]);
+    }
+    Some(Finding {
+        effect: Kind::HeavyTails,
+        parameters,
+        p_value: tails.p,
+        location: "the whitened residuals: the outlier test is judged under every tail they allow".into(),
+        after: NO_FIT,
+    })
 }
