@@ -282,6 +282,14 @@ fn shocks_the_simulation_lacks_are_named_and_put_in() {
         );
         assert!((0.5..=2.0).contains(&(fixed / truth)), "fixed {fixed}, truth {truth}");
         assert!(s.fixed.after.mismatches() <= s.before.mismatches());
+        // Beside the shocks the noise is white: their scatter is not written as flicker (seed
+        // 3 was given B 0.013 deg/h, one mismatch left, before the noise terms came from the
+        // estimate beside the shocks).
+        let noise = &s.fixed.file.noise;
+        assert!(
+            noise.bias_instability_dph == 0.0 && noise.rrw_dph_rth == 0.0 && noise.gm_sigma_dph == 0.0,
+            "seed {seed}: {noise:?}"
+        );
         // The fixed file's own recording has the tails the recording had.
         let again = diagnose(&recording(&s.fixed.file), &Options::default()).unwrap();
         assert!(again.findings.iter().any(|f| f.effect == Kind::HeavyTails));
