@@ -243,8 +243,7 @@ pub(crate) struct Through {
 /// The fit of `data` through shocks, from the Gaussian fit's noise `model` and how it was
 /// chosen: a given model keeps its terms and scale, and only the shocks are fitted beside it;
 /// an estimated one is estimated again beside them ([`through_shocks`]). `rows` are the
-/// recording's, in `data`'s order. `None` past [`noise_est::THINNED`] estimated rows, or where
-/// no dwell stands out.
+/// recording's, in `data`'s order. `None` where no dwell stands out.
 pub(crate) fn through(
     data: &Data<'_>,
     windows: &WindowSet,
@@ -262,8 +261,7 @@ pub(crate) fn through(
             estimate: None,
             carried: 1.0,
         }),
-        NoiseChoice::Estimate if data.y.len() <= noise_est::THINNED => through_shocks(data, windows, model, rows),
-        NoiseChoice::Estimate => None,
+        NoiseChoice::Estimate => through_shocks(data, windows, model, rows),
     }?;
     let v = th.verdict;
     Some(Through {
@@ -363,7 +361,7 @@ fn shock_round(
         .filter(|(i, _)| !sf.struck.contains(i))
         .filter_map(|(_, r)| r.quarters_dph)
         .collect();
-    let e = noise_est::estimate(
+    let (e, _) = estimate(
         Data {
             quarters: &quarters,
             extra: Some(&relative),
@@ -385,26 +383,30 @@ fn shock_round(
 }
 
 /// The noise estimate and how thinned it was (one dwell mean in k). Past
-/// [`noise_est::THINNED`] rows the noise is estimated from one dwell mean in k and every
-/// quarter, and the models that carry weight are refitted on every row: the azimuth comes
-/// from their fits.
+/// [`noise_est::THINNED`] rows the noise is estimated from one dwell mean in k (and its
+/// extra variance) and every quarter, and the models that carry weight are refitted on every
+/// row: the azimuth comes from their fits.
 fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
     if data.t_s.len() <= noise_est::THINNED {
         return noise_est::estimate(data, colours).map(|e| (e, 1));
     }
     let th = Thinned::new(data.t_s, data.y, &[data.cols]);
+    let extra: Option<Vec<f64>> = data.extra.map(|x| x.iter().step_by(th.every).copied().collect());
     let e = noise_est::estimate(
         Data {
             t_s: &th.t_s,
             y: &th.y,
             cols: &th.designs[0],
+            extra: extra.as_deref(),
             ..data.clone()
         },
         colours,
     )?;
     let windows = WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]);
     let refit = |c: Candidate| -> Option<Candidate> {
-        let g = gls::fit(data.cols, data.y, &windows.cov(&c.model)?)?;
+        let white = c.model.white_dph_rts().powi(2);
+        let absolute: Option<Vec<f64>> = data.extra.map(|x| x.iter().map(|r| r * white).collect());
+        let g = gls::fit(data.cols, data.y, &windows.cov_plus(&c.model, absolute.as_deref())?)?;
         Some(Candidate {
             coef: g.coef,
             cov: g.cov,

@@ -79,3 +79,65 @@ fn nf_fit_of_a_long_random_walk_run_estimates_from_a_thinned_series_and_fits_eve
     let z = (z2 / runs as f64).sqrt();
     assert!(z < 1.6, "RMS error/sigma {z}");
 }
+
+/// A sequential white-noise run like [`walk_run`]'s in which a sixth of the dwells are
+/// shifted whole by ten times a dwell mean's noise (shocks), and which they are.
+fn shocked_run(n: usize, seed: u64) -> (Recording, Vec<bool>) {
+    let mut rng = Rng::new(seed);
+    let amplitude = 15.041_067 * LATITUDE_DEG.to_radians().cos();
+    let mut rec = QuarteredRecording::new(LATITUDE_DEG, 1.0, 1000.0);
+    let mut struck = Vec::with_capacity(n);
+    for i in 0..n {
+        let gamma = (i as f64 * 0.5) % 360.0;
+        let hit = rng.unit() < 1.0 / 6.0;
+        let shift = if hit {
+            10.0 * QUARTER_SD / 2.0 * rng.gauss()
+        } else {
+            0.0
+        };
+        let rate = amplitude * (gamma + PSI_DEG).to_radians().cos() + 0.7 + shift;
+        let q: [f64; 4] = core::array::from_fn(|_| rate + QUARTER_SD * rng.gauss());
+        rec.position(5.0 + 1.2 * i as f64, gamma, q);
+        struck.push(hit);
+    }
+    (Recording::parse(rec.text()).unwrap(), struck)
+}
+
+#[test]
+fn nf_fit_of_a_long_shocked_run_goes_through_the_shocks() {
+    let opt = analysis::Options {
+        replicates: 0,
+        ..analysis::Options::default()
+    };
+    let (mut z2, runs) = (0.0, 3);
+    for seed in 0..runs {
+        let (rec, truth) = shocked_run(3000, 80 + seed);
+        let a = analyse(&rec, &opt).unwrap();
+        let g = &a.gls;
+        let shocks = g
+            .shocks
+            .as_ref()
+            .expect("a long shocked run is fitted through its shocks");
+        // A dwell is found where the fit reads it as struck or holds it out as wild.
+        let mut found: Vec<usize> = shocks.struck.clone();
+        found.extend(a.wild.iter().filter(|w| w.held_out).map(|w| w.line));
+        let hits = (0..rec.rows.len())
+            .filter(|&i| truth[i] && found.contains(&rec.rows[i].line))
+            .count();
+        let shifted = truth.iter().filter(|&&t| t).count();
+        // Shifts are N(0, 10 s): a fifth of them are within 2.5 s and hide in the noise.
+        assert!(
+            hits as f64 > 0.7 * shifted as f64,
+            "seed {seed}: {hits} of {shifted} found"
+        );
+        assert!(
+            found.len() < shifted * 11 / 10,
+            "seed {seed}: {} read as struck or wild",
+            found.len()
+        );
+        let err = ((g.psi_deg - PSI_DEG + 540.0) % 360.0 - 180.0) * 3600.0;
+        z2 += (err / (g.sigma_psi_deg * 3600.0)).powi(2);
+    }
+    let z = (z2 / runs as f64).sqrt();
+    assert!((0.4..1.6).contains(&z), "RMS error/sigma {z}");
+}

@@ -13,7 +13,7 @@ use super::noise::{SHOCK_RMS, dwell_and_quarters};
 use super::select::Finding;
 use super::tails::Tails;
 use crate::gls::WindowSet;
-use crate::noise_est::{self, Colours};
+use crate::noise_est::{self, Colours, THINNED};
 use crate::noise_fit::{self, NoiseChoice, Through};
 use nf_model::noise::NoiseModel;
 
@@ -54,6 +54,9 @@ pub fn through(
     let (start, carried, calibration) = match choice {
         NoiseChoice::Given(..) => (*model, (1.0, 1.0), None),
         NoiseChoice::Estimate => {
+            // As the final sigma's: replicates up to THINNED positions, past which the noise
+            // is known well and each would cost a long run's estimate.
+            let replicates = if d.n() > THINNED { 0 } else { replicates };
             let g = noise_fit::gaussian(&data, Colours::WithShocks, replicates).ok()?;
             (g.judged.model, g.carried(), g.calibration.map(|c| c.psi))
         }
