@@ -391,7 +391,7 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
         return noise_est::estimate(data, colours).map(|e| (e, 1));
     }
     let th = Thinned::new(data.t_s, data.y, &[data.cols]);
-    let extra: Option<Vec<f64>> = data.extra.map(|x| x.iter().step_by(th.every).copied().collect());
+    let extra: Option<Vec<f64>> = data.extra.map(|x| th.rows.iter().map(|&i| x[i]).collect());
     let e = noise_est::estimate(
         Data {
             t_s: &th.t_s,
