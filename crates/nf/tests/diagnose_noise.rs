@@ -20,19 +20,25 @@ fn clean(noise: NoiseModel, seed: u64) -> Recording {
 
 /// The same with a linear bias drift, deg/h per s.
 fn drifting(noise: NoiseModel, drift: f64, seed: u64) -> Recording {
-    let mut twin = TwinConfig {
+    let twin = TwinConfig {
         seed,
         noise,
-        settle_dph: 0.0,
         bias_drift_dph_per_s: drift,
         ..TwinConfig::default()
     };
+    level_run(twin, POSITIONS, DWELL_S)
+}
+
+/// A run of `twin` at latitude 40, level, no settling transient: `positions` dwells of
+/// `dwell_s`, psi from the seed.
+fn level_run(mut twin: TwinConfig, positions: u16, dwell_s: f64) -> Recording {
+    twin.settle_dph = 0.0;
     twin.instrument.tilt_deg = 0.0;
     twin.instrument.latitude_deg = 40.0;
-    twin.instrument.psi_deg = (seed as f64 * 47.0) % 360.0;
+    twin.instrument.psi_deg = (twin.seed as f64 * 47.0) % 360.0;
     let run = RunConfig {
-        positions: POSITIONS,
-        dwell_ms: (DWELL_S * 1000.0) as u32,
+        positions,
+        dwell_ms: (dwell_s * 1000.0) as u32,
         settle_ms: 100,
         latitude_deg: 40.0,
         tilt_policy: TiltPolicy::Warn,
@@ -293,10 +299,9 @@ fn shocks_are_heavy_tails_not_flicker() {
     let colours = [Kind::BiasInstability, Kind::RateRandomWalk, Kind::CorrelatedNoise];
     let (mut through, mut coloured) = (0, 0);
     for seed in 0..8 {
-        let mut twin = TwinConfig {
+        let twin = TwinConfig {
             seed: 900 + seed,
             noise: white(),
-            settle_dph: 0.0,
             shocks: Shocks {
                 per_hour: 146.0,
                 size_dph: 0.0866,
@@ -304,19 +309,7 @@ fn shocks_are_heavy_tails_not_flicker() {
             },
             ..TwinConfig::default()
         };
-        twin.instrument.tilt_deg = 0.0;
-        twin.instrument.latitude_deg = 40.0;
-        let run = RunConfig {
-            positions: 72,
-            dwell_ms: 2000,
-            latitude_deg: 40.0,
-            tilt_policy: TiltPolicy::Warn,
-            tilt_correction: false,
-            ..RunConfig::default()
-        };
-        let mut rec = Recorder::default();
-        simulate(&twin, &run, &mut rec);
-        let d = diagnose(&Recording::parse(&rec.text()).unwrap(), &Options::default()).unwrap();
+        let d = diagnose(&level_run(twin, 72, 2.0), &Options::default()).unwrap();
         if d.through_shocks {
             through += 1;
             let tails = d.findings.iter().find(|f| f.effect == Kind::HeavyTails);
