@@ -8,8 +8,7 @@
 use super::data::Data;
 use super::effect::param;
 use super::kind::Kind;
-use super::model::Summary;
-use super::noise::{SHOCK_RMS, dwell_and_quarters};
+use super::noise::{NO_FIT, SHOCK_RMS, dwell_and_quarters};
 use super::select::Finding;
 use super::tails::Tails;
 use crate::gls::WindowSet;
@@ -74,7 +73,6 @@ impl FinalShocks {
     /// `--fix` writes).
     pub fn finding(&self, d: &Data) -> Finding {
         let s = &self.through.shocks;
-        let nan = f64::NAN;
         Finding {
             effect: Kind::HeavyTails,
             parameters: vec![
@@ -89,11 +87,7 @@ impl FinalShocks {
                 "the final model's least-squares residuals: the final azimuth is fitted through the shocks (dwells read as struck at lines {})",
                 self.lines(d)
             ),
-            after: Summary {
-                azimuth_deg: nan,
-                rss: nan,
-                sigma_arcsec: nan,
-            },
+            after: NO_FIT,
         }
     }
 

@@ -146,7 +146,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     // under which a drift or a jump is judged (below).
     let mut drifting = robust.clone();
     drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
-    let (both, every) = estimates(d, y, dwell_s, &quarters, &[&robust, &drifting]);
+    let (both, every, used) = estimates(d, y, dwell_s, &quarters, &[&robust, &drifting]);
     let mut both = both.into_iter();
     let (e, with_drift) = (both.next().flatten(), both.next().flatten());
     let e = e.ok_or("the noise could not be estimated from the recording")?;
@@ -188,10 +188,11 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         cautious_model,
         source: format!(
             "estimated from the recording (REML on {} dwell means in time order{}, {} dof)",
-            if every > 1 {
-                format!("{} of the {n} (one in {every})", n.div_ceil(every))
-            } else {
-                n.to_string()
+            match (every, n.div_ceil(every) - used) {
+                (1, 0) => n.to_string(),
+                (1, held) => format!("{used} of the {n} ({held} held out as bursts)"),
+                (_, 0) => format!("{used} of the {n} (one in {every})"),
+                (_, held) => format!("{used} of the {n} (one in {every}, {held} held out as bursts)"),
             },
             if quarters.is_empty() {
                 String::new()
@@ -215,14 +216,15 @@ pub(super) fn dwell_and_quarters(d: &Data) -> (f64, Vec<[f64; 4]>) {
 }
 
 /// The REML estimate of `y` under each of `designs` (white noise with flicker and walk, or a
-/// Gauss-Markov bias), from one dwell mean in `every` past `THINNED` positions, and `every`.
+/// Gauss-Markov bias), from one dwell mean in `every` past `THINNED` positions; `every` and
+/// the dwell means used (bursts every design holds out leave the series).
 fn estimates(
     d: &Data,
     y: &[f64],
     dwell_s: f64,
     quarters: &[[f64; 4]],
     designs: &[&[Vec<f64>]],
-) -> (Vec<Option<noise_est::Estimate>>, usize) {
+) -> (Vec<Option<noise_est::Estimate>>, usize, usize) {
     let thinned = Thinned::new(&d.t, y, designs);
     let more: Vec<&[Vec<f64>]> = thinned.designs[1..].iter().map(Vec::as_slice).collect();
     let e = noise_est::estimate_all(
@@ -237,7 +239,7 @@ fn estimates(
         &more,
         noise_est::Colours::WithGaussMarkov,
     );
-    (e, thinned.every)
+    (e, thinned.every, thinned.t_s.len())
 }
 
 /// The model the likelihood supports, and its colour terms significant at `alpha` (over the
@@ -270,7 +272,7 @@ pub fn with_effects(d: &Data, y: &[f64], effects: &[Vec<f64>], alpha: f64) -> Op
     }
     let robust = with_bursts_held_out(d, &cols, y);
     let (dwell_s, quarters) = dwell_and_quarters(d);
-    let (mut e, _) = estimates(d, y, dwell_s, &quarters, &[&robust]);
+    let (mut e, _, _) = estimates(d, y, dwell_s, &quarters, &[&robust]);
     let (model, terms) = supported(&e.pop().flatten()?, alpha);
     Some(AfterEffects {
         model,
@@ -387,7 +389,8 @@ fn allan_parameters(m: &NoiseModel, grid: &[Candidate], top: f64) -> Vec<Param> 
 /// The RMS shift shocks give a dwell mean, deg/h: a heavy-tails finding's size.
 pub const SHOCK_RMS: &str = "shock_rms_dph";
 
-const NO_FIT: Summary = Summary {
+/// A noise finding's `after`: it changes no fit.
+pub(super) const NO_FIT: Summary = Summary {
     azimuth_deg: f64::NAN,
     rss: f64::NAN,
     sigma_arcsec: f64::NAN,
