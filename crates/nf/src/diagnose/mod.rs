@@ -254,46 +254,8 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         sigma_amplitude,
         predicted,
     );
-    // The noise as it is beside the effects named: what the noise terms and the fix report.
-    let effect_cols: Vec<Vec<f64>> = sel
-        .model
-        .cols
-        .iter()
-        .filter(|c| c.kind.is_some())
-        .map(|c| c.raw.clone())
-        .collect();
-    let after = match opt.noise {
-        NoiseChoice::Estimate if !effect_cols.is_empty() => {
-            noise::with_effects(&d, &sel.model.y, &effect_cols, opt.alpha)
-        }
-        _ => None,
-    };
-    // The tails too: a jump left out is one large step of a walk's whitening, a tail.
-    let (noise_with_effects, terms, tails, rate_resid) = match after {
-        Some(a) => {
-            let w = noise.whitening.of(&a.model)?;
-            let (tails, resid) = measured_tails(&d, a.design, &sel.model.y, &w);
-            (a.model, a.terms, tails, resid)
-        }
-        None => (noise.model, noise.terms.clone(), tails, rate_resid),
-    };
-    // Through shocks, the noise estimated again beside them is the one whose colours are named.
-    let beside_shocks = shocks
-        .as_ref()
-        .and_then(|s| Some((s.through.model, s.through.estimate.as_ref()?)));
-    let (noise_with_effects, terms, whence) = match beside_shocks {
-        Some((model, e)) => (
-            model,
-            noise::supported(e, opt.alpha).1,
-            "estimated again beside the shocks",
-        ),
-        None => (noise_with_effects, terms, "whitened by this model in every test"),
-    };
-    let mut findings = noise::findings(&terms, whence);
-    findings.extend(match &shocks {
-        Some(s) => Some(s.finding(&d)),
-        None => noise::tails_finding(&tails, &rate_resid, opt.alpha / 2.0),
-    });
+    let (noise_with_effects, mut findings) =
+        noise_findings(&d, &sel.model, &noise, shocks.as_ref(), (tails, rate_resid), opt)?;
     findings.extend(sel.findings.iter().cloned());
     // Structure is unexplained only when no plausible noise model explains it either, nor
     // white noise: whole dwells that scatter more than their quarters say (shocks) make the
@@ -372,6 +334,59 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         points,
     })
 }
+
+/// The noise as it is beside the effects named (what the noise terms and the fix report) and
+/// its findings, the tails among them. Through shocks, the noise estimated again beside them is
+/// the one whose colours are named, and the shocks are the tails' finding; else the noise is
+/// estimated again with the named effects' columns, and its tails measured (a jump left out is
+/// one large step of a walk's whitening, a tail), or the first estimate's `tails` stand.
+fn noise_findings(
+    d: &Data,
+    selected: &Model,
+    noise: &noise::Noise,
+    shocks: Option<&final_shocks::FinalShocks>,
+    tails: (tails::Tails, Vec<f64>),
+    opt: &Options,
+) -> Result<(NoiseModel, Vec<Finding>), String> {
+    if let Some(s) = shocks {
+        let (model, terms, whence) = match &s.through.estimate {
+            Some(e) => (
+                s.through.model,
+                noise::supported(e, opt.alpha).1,
+                "estimated again beside the shocks",
+            ),
+            None => (noise.model, noise.terms.clone(), WHITENED_BY),
+        };
+        let mut findings = noise::findings(&terms, whence);
+        findings.push(s.finding(d));
+        return Ok((model, findings));
+    }
+    let effect_cols: Vec<Vec<f64>> = selected
+        .cols
+        .iter()
+        .filter(|c| c.kind.is_some())
+        .map(|c| c.raw.clone())
+        .collect();
+    let after = match opt.noise {
+        NoiseChoice::Estimate if !effect_cols.is_empty() => {
+            noise::with_effects(d, &selected.y, &effect_cols, opt.alpha)
+        }
+        _ => None,
+    };
+    let (model, terms, (tails, rate_resid)) = match after {
+        Some(a) => {
+            let w = noise.whitening.of(&a.model)?;
+            (a.model, a.terms, measured_tails(d, a.design, &selected.y, &w))
+        }
+        None => (noise.model, noise.terms.clone(), tails),
+    };
+    let mut findings = noise::findings(&terms, WHITENED_BY);
+    findings.extend(noise::tails_finding(&tails, &rate_resid, opt.alpha / 2.0));
+    Ok((model, findings))
+}
+
+/// Where the noise terms were found, when the tests' whitening found them.
+const WHITENED_BY: &str = "whitened by this model in every test";
 
 /// The tails of the rates `y` whitened by `w` about a fit of `design`, and the rates'
 /// residuals (which size the shocks). The largest is held out by its own (whitened) column:
