@@ -4,7 +4,7 @@ from the twin (numpy, the documented format): named first, false alarms, finals 
 reported sigma and worse than the baseline by 3 of its sigma, per effect.
 
     python3 bench/real_effects.py NF_BINARY LOG [RUNS] [--stretch S] [--pairs] [--effect NAME]
-                                  [--keep DIR]
+                                  [--keep DIR] [--fit]
 
 The gyro error of each recording is a window of LOG (the static-log format), its mean
 removed and scaled so that its Allan deviation at a dwell is 0.01 deg/h (`s`, as
@@ -12,7 +12,8 @@ removed and scaled so that its Allan deviation at a dwell is 0.01 deg/h (`s`, as
 to 60) and azimuth. 36, 48 or 72 positions of 1 s, 1.35 s apart, in a sweep (or opposite
 pairs); STRETCH s of the log make one second of the recording. The effects at the suite's
 moderate level (docs/diagnose.md), in units of `s` or of the quantity's standard error.
-`--keep DIR` keeps the recordings whose final is worse than the baseline or beyond 3 sigma;
+`--fit` puts them through `nf fit` instead: RMS error/sigma, how many beyond 3 sigma, and
+white least squares' RMS error/sigma. `--keep DIR` keeps the recordings whose final is worse than the baseline or beyond 3 sigma;
 the shaft tilt is 0.002 deg unless `TILT_DEG` says otherwise.
 
 The physics, written here apart from the twin: the gyro axis and the inclinometer's Y axis
@@ -37,7 +38,7 @@ def read_log(path):
     cols = lines[0].strip().split(",")
     rows = np.array([[float(v) for v in l.split(",")] for l in lines[1:] if l.strip()])
     t = rows[:, cols.index("t_s")]
-    return rows[:, cols.index("rate_dph")], 1 / np.median(np.diff(t))
+    return rows[:, cols.index("rate_dph")], round(1 / np.median(np.diff(t)), 3)
 
 
 def adev(x, m):
@@ -121,6 +122,69 @@ def write(path, noise, per_s, n, pairs, effect, rng):
     return psi
 
 
+NOISE_TERMS = ("bias_instability", "rate_random_walk", "correlated_noise", "heavy_tails")
+
+
+def err(az, psi):
+    return ((az - psi + 180) % 360 - 180) * 3600
+
+
+def recordings(path, raw, per_s, runs, pairs, effect, stretch):
+    """Writes each recording of a row to `path` in turn, yielding its number and truth."""
+    rng = np.random.default_rng([EFFECTS.index(effect), int(stretch * 10), int(pairs)])
+    scale = S / adev(raw, int(round(DWELL * per_s)))
+    for r in range(runs):
+        n = [36, 48, 72][r % 3]
+        length = int((n * SPACING + DWELL) * per_s)
+        frm = int(rng.integers(len(raw) - length))
+        w = raw[frm:frm + length]
+        yield r, write(path, (w - w.mean()) * scale, per_s, n, pairs, effect, rng)
+
+
+def diagnose_row(nf, path, rows, effect, keep):
+    first = alarms = beyond = worse = runs = 0
+    b2 = f2 = 0.0
+    named = {}
+    for r, psi in rows:
+        out = subprocess.run([nf, "diagnose", path, "--json"], capture_output=True, text=True)
+        if out.returncode != 0:
+            print("failed:", out.stderr.strip()[:200])
+            continue
+        d = json.loads(out.stdout)
+        names = [f["effect"] for f in d["findings"] if f["effect"] not in NOISE_TERMS]
+        for x in names:
+            named[x] = named.get(x, 0) + 1
+        first += bool(names) and names[0] == effect
+        alarms += bool(names) and effect == "clean"
+        eb = err(d["baseline"]["azimuth_deg"], psi)
+        ef = err(d["final"]["azimuth_deg"], psi)
+        off = abs(ef) > 3 * d["final"]["sigma_arcsec"]
+        bad = abs(ef) > abs(eb) + 3 * d["baseline"]["sigma_arcsec"]
+        beyond += off
+        worse += bad
+        if keep and (off or bad):
+            os.replace(path, os.path.join(keep, f"{effect}-{r}-psi{psi:.5f}.csv"))
+        b2 += eb * eb
+        f2 += ef * ef
+        runs += 1
+    print(f"{effect:<20} {runs:>4} {first:>12} {alarms:>7} {beyond:>7} {worse:>6}"
+          f" {math.sqrt(b2 / runs):>8.1f}\" {math.sqrt(f2 / runs):>8.1f}\"  "
+          + ", ".join(f"{k} x{v}" for k, v in sorted(named.items())), flush=True)
+
+
+def fit_row(nf, path, rows, effect):
+    z, white = [], []
+    for _, psi in rows:
+        f = json.loads(subprocess.run([nf, "fit", path, "--json"], capture_output=True,
+                                      text=True, check=True).stdout)
+        e = err(f["azimuth_deg"], psi)
+        z.append(e / f["sigma_arcsec"])
+        white.append(e / f["ols"]["sigma_arcsec"])
+    z, white = np.array(z), np.array(white)
+    print(f"{effect:<20} {len(z):>4} {np.sqrt(np.mean(z * z)):>10.2f} {np.sum(abs(z) > 3):>7}"
+          f" {np.sqrt(np.mean(white * white)):>15.2f}", flush=True)
+
+
 def main():
     args = sys.argv[1:]
     opt = lambda name, default: args[args.index(name) + 1] if name in args else default
@@ -130,51 +194,21 @@ def main():
     pairs = "--pairs" in args
     effects = [opt("--effect", None)] if "--effect" in args else EFFECTS
     keep = opt("--keep", None)
+    fit = "--fit" in args
     raw, rate_hz = read_log(log)
-    per_s = rate_hz * stretch
-    scale = S / adev(raw, int(round(DWELL * per_s)))
-    err = lambda az, psi: ((az - psi + 180) % 360 - 180) * 3600
     print(f"{log}: stretch {stretch}, {'pairs' if pairs else 'sweep'}, {runs} per row")
-    print(f"{'effect':<20} runs  named first  alarms  beyond  worse  rms base  rms final  named")
+    if fit:
+        print(f"{'effect':<20} runs  RMS z fit  beyond  RMS z white LS")
+    else:
+        print(f"{'effect':<20} runs  named first  alarms  beyond  worse  rms base  rms final  named")
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "r.csv")
         for effect in effects:
-            rng = np.random.default_rng([EFFECTS.index(effect), int(stretch * 10), int(pairs)])
-            first = alarms = beyond = worse = 0
-            b2 = f2 = 0.0
-            named = {}
-            for r in range(runs):
-                n = [36, 48, 72][r % 3]
-                length = int((n * SPACING + DWELL) * per_s)
-                frm = int(rng.integers(len(raw) - length))
-                w = raw[frm:frm + length]
-                psi = write(path, (w - w.mean()) * scale, per_s, n, pairs, effect, rng)
-                out = subprocess.run([nf, "diagnose", path, "--json"], capture_output=True, text=True)
-                if out.returncode != 0:
-                    print("failed:", out.stderr.strip()[:200])
-                    continue
-                d = json.loads(out.stdout)
-                names = [f["effect"] for f in d["findings"]
-                         if f["effect"] not in ("bias_instability", "rate_random_walk",
-                                                "correlated_noise", "heavy_tails")]
-                for x in names:
-                    named[x] = named.get(x, 0) + 1
-                first += bool(names) and names[0] == effect
-                alarms += bool(names) and effect == "clean"
-                eb = err(d["baseline"]["azimuth_deg"], psi)
-                ef = err(d["final"]["azimuth_deg"], psi)
-                off = abs(ef) > 3 * d["final"]["sigma_arcsec"]
-                bad = abs(ef) > abs(eb) + 3 * d["baseline"]["sigma_arcsec"]
-                beyond += off
-                worse += bad
-                if keep and (off or bad):
-                    kept = os.path.join(keep, f"{effect}-{r}-psi{psi:.5f}.csv")
-                    os.replace(path, kept)
-                b2 += eb * eb
-                f2 += ef * ef
-            print(f"{effect:<20} {runs:>4} {first:>12} {alarms:>7} {beyond:>7} {worse:>6}"
-                  f" {math.sqrt(b2 / runs):>8.1f}\" {math.sqrt(f2 / runs):>8.1f}\"  "
-                  + ", ".join(f"{k} x{v}" for k, v in sorted(named.items())), flush=True)
+            rows = recordings(path, raw, rate_hz * stretch, runs, pairs, effect, stretch)
+            if fit:
+                fit_row(nf, path, rows, effect)
+            else:
+                diagnose_row(nf, path, rows, effect, keep)
 
 
 if __name__ == "__main__":
