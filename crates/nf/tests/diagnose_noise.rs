@@ -325,3 +325,37 @@ fn shocks_are_heavy_tails_not_flicker() {
         "a colour named beside the shocks in {coloured} of {through}"
     );
 }
+
+#[test]
+fn a_clear_drift_is_named_or_noted_never_passed_over() {
+    // About 12 dwell-mean sigmas of drift over the run. Where the wander test holds it back
+    // (a random walk of the size this run allows explains it as well), the diagnosis says
+    // so and gives its rate.
+    let truth = 1.2e-3;
+    let (mut named_n, mut held) = (0, 0);
+    for seed in 0..12 {
+        let d = diagnose(&drifting(white(), truth, 700 + seed), &Options::default()).unwrap();
+        if named(&d, Kind::BiasDrift) {
+            named_n += 1;
+            continue;
+        }
+        let u = d.undecided.iter().find(|u| u.effect == Kind::BiasDrift);
+        let u = u.unwrap_or_else(|| panic!("seed {seed}: the drift passed over in silence: {:?}", d.notes));
+        assert!(u.own_p < u.p_value, "seed {seed}: {u:?}");
+        assert!(
+            d.notes.iter().any(|n| n.starts_with("bias_drift not named")),
+            "seed {seed}: no note: {:?}",
+            d.notes
+        );
+        let rate = u.parameters.iter().find(|p| p.name == "rate_dph_per_s").unwrap();
+        let sigma = rate.sigma.unwrap();
+        println!(
+            "seed {seed}: rate {:.3e} +- {sigma:.1e}, p {:.1e} then {:.1e}",
+            rate.value, u.own_p, u.p_value
+        );
+        assert!((rate.value - truth).abs() < 3.0 * sigma, "seed {seed}: rate {rate:?}");
+        held += 1;
+    }
+    println!("a clear drift: named {named_n}/12, held back and said {held}/12");
+    assert!(held >= 1, "the held-back drift was not exercised");
+}

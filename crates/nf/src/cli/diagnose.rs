@@ -284,9 +284,21 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
         b.sigma_arcsec
     )?;
     if d.findings.iter().all(|f| f.effect.is_noise()) {
+        let agrees = match d.undecided.as_slice() {
+            [] => "the recording agrees with the model".to_string(),
+            held => format!(
+                "{}: found by {} but not named, as the run's own wander explains the recording as well (notes)",
+                held.iter().map(|u| u.effect.name()).collect::<Vec<_>>().join(", "),
+                if held.len() == 1 {
+                    "its own test"
+                } else {
+                    "their own tests"
+                }
+            ),
+        };
         writeln!(
             out,
-            "no effect is significant (family-wise false-alarm rate {} per step): the recording agrees with the model",
+            "no effect is significant (family-wise false-alarm rate {} per step): {agrees}",
             d.alpha
         )?;
     }

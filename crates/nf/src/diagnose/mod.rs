@@ -39,7 +39,7 @@ pub use effect::{Effect, Param};
 pub use kind::Kind;
 pub use model::Summary;
 pub use noise::SHOCK_RMS;
-pub use select::Finding;
+pub use select::{Finding, Undecided};
 
 use crate::noise_calib;
 use crate::noise_fit::NoiseChoice;
@@ -123,6 +123,9 @@ pub struct Diagnosis {
     pub baseline: Summary,
     /// Noise terms, catalogue effects and unexplained structure, in the order found.
     pub findings: Vec<Finding>,
+    /// Effects found by their own tests but not named, as the run's own wander explains
+    /// the recording as well (the wander test's verdict); the notes say so.
+    pub undecided: Vec<Undecided>,
     /// The selected model alone.
     pub selected: Summary,
     /// The result: the models met, averaged by their weights, and over the noise models the
@@ -301,6 +304,10 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         notes: tilt_warning
             .into_iter()
             .chain(notes::notes(&findings, &sel.rivals, &models, &d))
+            .chain(notes::undecided(
+                &sel.undecided,
+                matches!(opt.noise, NoiseChoice::Given(..)),
+            ))
             .chain(shocks.as_ref().map(|s| s.note(&d)))
             .collect(),
         noise_model: noise.model,
@@ -321,6 +328,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: summary(&base),
         findings,
+        undecided: sel.undecided,
         selected: summary(&sel.fit),
         final_,
         unresolved,

@@ -3,7 +3,7 @@
 use super::averaging::Weighted;
 use super::data::Data;
 use super::kind::Kind;
-use super::select::Finding;
+use super::select::{Finding, Undecided};
 
 fn corr(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len() as f64;
@@ -56,4 +56,47 @@ pub fn notes(findings: &[Finding], rivals: &[(Kind, Kind)], models: &[Weighted],
         out.push(format!("models sharing the result: {}", shared.join("; ")));
     }
     out
+}
+
+/// The effects the selection's last step found by their own tests and the wander test held
+/// back: said, with the effect's size if it is one, so that a clear trend is not passed over
+/// in silence. `given`: the noise model came from a static log, not from this run.
+pub fn undecided(held: &[Undecided], given: bool) -> Vec<String> {
+    let tell = if given {
+        "a longer run can, or one in a balanced visiting order"
+    } else {
+        "a static log of the gyro can (`nf allan LOG --out gyro.noise`, then `--noise gyro.noise`), or a run in a balanced visiting order"
+    };
+    held.iter()
+        .map(|u| {
+            let size: Vec<String> = u
+                .parameters
+                .iter()
+                .map(|p| match p.sigma {
+                    Some(s) => format!("{} = {} +- {}", p.name, number(p.value), number(s)),
+                    None => format!("{} = {}", p.name, number(p.value)),
+                })
+                .collect();
+            format!(
+                "{} not named: its own test finds it (p = {:.1e}), but with the noise re-estimated with and without it the run's own wander explains the recording as well (p = {:.1e}); if it is one, {}, {}. One run cannot tell them apart: {}",
+                u.effect.name(),
+                u.own_p,
+                u.p_value,
+                size.join(", "),
+                u.location,
+                tell
+            )
+        })
+        .collect()
+}
+
+/// A parameter for a person: whole numbers whole, the rest to four figures.
+fn number(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e9 {
+        format!("{v:.0}")
+    } else if (0.1..1e5).contains(&v.abs()) {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.3e}")
+    }
 }

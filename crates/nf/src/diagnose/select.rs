@@ -29,6 +29,20 @@ pub struct Finding {
     pub after: Summary,
 }
 
+/// An effect its own test finds and the wander test holds back: not named, as the noise's
+/// own wander explains the recording as well.
+#[derive(Debug, Clone)]
+pub struct Undecided {
+    pub effect: Kind,
+    /// Its own test's p-value, under the noise it is judged by.
+    pub own_p: f64,
+    /// With the noise re-estimated with and without it (the wander test's).
+    pub p_value: f64,
+    /// Its size, if it is one.
+    pub parameters: Vec<Param>,
+    pub location: String,
+}
+
 pub struct Selection {
     pub model: Model,
     pub fit: Ls,
@@ -37,6 +51,9 @@ pub struct Selection {
     pub variants: Vec<Variant>,
     /// Competing significant explanations at a step.
     pub rivals: Vec<(Kind, Kind)>,
+    /// Effects the last step's own tests found and the wander test did not confirm: the
+    /// noise's wander explains them as well.
+    pub undecided: Vec<Undecided>,
     /// Steps taken: each tests every effect against the model so far.
     pub steps: usize,
 }
@@ -66,10 +83,12 @@ impl<'a> Selector<'a> {
         let mut rivals = Vec::new();
         let mut scanned = 0;
         let mut steps = 0;
+        let mut undecided = Vec::new();
         for _ in 0..MAX_STEPS {
             steps += 1;
             let named: Vec<Kind> = findings.iter().map(|f| f.effect).collect();
-            let mut cands = self.step(&model, &fit, &named);
+            let (mut cands, unconfirmed) = self.step(&model, &fit, &named);
+            undecided = unconfirmed;
             let Some(chosen) = cands.first().cloned() else { break };
             for alt in cands.drain(1..) {
                 if alt.kind != chosen.kind {
@@ -112,13 +131,14 @@ impl<'a> Selector<'a> {
             findings,
             variants,
             rivals,
+            undecided,
             steps,
         })
     }
 
     /// The significant proposals of one step, the one to name first (best BIC), then the rest
-    /// by p-value.
-    fn step(&self, model: &Model, fit: &Ls, named: &[Kind]) -> Vec<Proposal> {
+    /// by p-value; and those only the wander test holds back.
+    fn step(&self, model: &Model, fit: &Ls, named: &[Kind]) -> (Vec<Proposal>, Vec<Undecided>) {
         let main = Frame {
             whitener: self.whitener,
             model: model.clone(),
@@ -164,6 +184,7 @@ impl<'a> Selector<'a> {
         let others = cands
             .iter()
             .any(|c| c.kind != Kind::ScaleFactor && c.own_p.unwrap_or(c.p) < limit);
+        let unconfirmed = undecided(&cands, limit);
         cands.retain(|c| c.p < limit);
         if others {
             cands.retain(|c| c.kind != Kind::ScaleFactor);
@@ -194,8 +215,32 @@ impl<'a> Selector<'a> {
                 cands.insert(0, c);
             }
         }
-        cands
+        (cands, unconfirmed)
     }
+}
+
+/// The proposals whose own p-value is under `limit` and the wander test's is not, the most
+/// significant form of each effect.
+fn undecided(cands: &[Proposal], limit: f64) -> Vec<Undecided> {
+    let mut held: Vec<(f64, &Proposal)> = cands
+        .iter()
+        .filter(|c| c.p >= limit)
+        .filter_map(|c| Some((c.own_p.filter(|&p| p < limit)?, c)))
+        .collect();
+    held.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out: Vec<Undecided> = Vec::new();
+    for (own_p, c) in held {
+        if out.iter().all(|u| u.effect != c.kind) {
+            out.push(Undecided {
+                effect: c.kind,
+                own_p,
+                p_value: c.p,
+                parameters: c.parameters.clone(),
+                location: c.location.clone(),
+            });
+        }
+    }
+    out
 }
 
 /// Adds a model the selection met, once: an effect that adds no column (the tilt, corrected
@@ -240,7 +285,37 @@ fn absorb(findings: &mut Vec<Finding>, c: Proposal, after: Summary) {
 
 #[cfg(test)]
 mod tests {
+    use super::super::effect::param;
     use super::*;
+
+    #[test]
+    fn only_effects_the_wander_test_held_back_are_undecided_the_strongest_form_of_each() {
+        let prop = |kind, p, own_p, form: &str| Proposal {
+            kind,
+            p,
+            change: Change::Nothing,
+            parameters: vec![param(form, 1.0, None)],
+            location: String::new(),
+            scanned: 0,
+            own_p,
+        };
+        let cands = [
+            prop(Kind::BiasDrift, 0.2, Some(1e-4), "linear"),
+            prop(Kind::BiasDrift, 0.3, Some(1e-6), "curved"),
+            // Confirmed: named, not undecided.
+            prop(Kind::BiasJump, 1e-4, Some(1e-5), "step"),
+            // Its own test does not find it.
+            prop(Kind::ThermalDrift, 0.5, Some(0.2), "temperature"),
+            // Not asked of the wander test.
+            prop(Kind::Outliers, 0.5, None, "dwell"),
+        ];
+        let held = undecided(&cands, 1e-3);
+        assert_eq!(held.len(), 1);
+        let u = &held[0];
+        assert_eq!(u.effect, Kind::BiasDrift);
+        assert_eq!(u.parameters[0].name, "curved");
+        assert_eq!((u.own_p, u.p_value), (1e-6, 0.3));
+    }
 
     #[test]
     fn a_model_met_twice_is_kept_once_under_the_chains_label() {

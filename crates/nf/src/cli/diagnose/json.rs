@@ -3,7 +3,7 @@
 //! The fields of each struct are in alphabetical order, the order the keys have always had.
 
 use super::super::diagnose_sim::{self, SimJson};
-use crate::diagnose::{Diagnosis, Finding, Summary};
+use crate::diagnose::{Diagnosis, Finding, Param, Summary, Undecided};
 use crate::sim_compare::SimReport;
 use nf_model::noise::NoiseModel;
 use serde::Serialize;
@@ -37,6 +37,25 @@ pub(super) struct DiagnosisJson<'a> {
     /// The comparison with the instrument file of --sim; only with --sim.
     #[serde(skip_serializing_if = "Option::is_none")]
     simulation: Option<SimJson<'a>>,
+    /// Effects their own tests find but the wander test holds back: not named, as the run's
+    /// own wander explains the recording as well.
+    undecided: Vec<UndecidedJson<'a>>,
+}
+
+/// An effect not named for the run's own wander.
+#[derive(Serialize)]
+struct UndecidedJson<'a> {
+    /// The effect's name.
+    effect: &'static str,
+    /// Its own test's p-value.
+    own_p_value: f64,
+    /// The wander test's p-value (the noise re-estimated with and without it).
+    p_value: f64,
+    /// Its size by name, if it is one.
+    parameters: BTreeMap<&'a str, ParamJson>,
+    /// Where in the recording it would show.
+    #[serde(rename = "where")]
+    location: &'a str,
 }
 
 /// Azimuth and uncertainty of a fit.
@@ -153,19 +172,31 @@ fn finding_json(f: &Finding) -> FindingJson<'_> {
         effect: f.effect.name(),
         noise: f.effect.is_noise(),
         p_value: f.p_value,
-        parameters: f
-            .parameters
-            .iter()
-            .map(|p| {
-                let j = ParamJson {
-                    sigma: p.sigma,
-                    value: p.value,
-                };
-                (p.name.as_str(), j)
-            })
-            .collect(),
+        parameters: parameters_json(&f.parameters),
         location: &f.location,
     }
+}
+
+fn undecided_json(u: &Undecided) -> UndecidedJson<'_> {
+    UndecidedJson {
+        effect: u.effect.name(),
+        own_p_value: u.own_p,
+        p_value: u.p_value,
+        parameters: parameters_json(&u.parameters),
+        location: &u.location,
+    }
+}
+
+fn parameters_json(ps: &[Param]) -> BTreeMap<&str, ParamJson> {
+    ps.iter()
+        .map(|p| {
+            let j = ParamJson {
+                sigma: p.sigma,
+                value: p.value,
+            };
+            (p.name.as_str(), j)
+        })
+        .collect()
 }
 
 pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -> DiagnosisJson<'a> {
@@ -205,5 +236,6 @@ pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -
         notes: &d.notes,
         selected: (&d.selected).into(),
         simulation: sim.map(diagnose_sim::json),
+        undecided: d.undecided.iter().map(undecided_json).collect(),
     }
 }
