@@ -90,7 +90,8 @@ pub fn undecided(held: &[Undecided], given: bool) -> Vec<String> {
         .collect()
 }
 
-/// A parameter for a person: whole numbers whole, the rest to four figures.
+/// A parameter for a person: whole numbers whole, the rest to three decimals (0.1 to 1e5)
+/// or four figures.
 fn number(v: f64) -> String {
     if v.fract() == 0.0 && v.abs() < 1e9 {
         format!("{v:.0}")
