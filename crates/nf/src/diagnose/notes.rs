@@ -33,6 +33,10 @@ pub fn notes(findings: &[Finding], rivals: &[(Kind, Kind)], models: &[Weighted],
     if rival(Kind::BiasJump, Kind::BiasDrift) {
         out.push("bias_jump and bias_drift both move the bias with time: the result averages the two models".into());
     }
+    if rival(Kind::EncoderError, Kind::ThermalDrift) {
+        out.push("encoder_error and thermal_drift: in a sweep a temperature cycle of k periods per run is the angle's k-th harmonic, which an encoder error in harmonic k - 1 or k + 1 makes too; the temperature column tells them apart only as far as the noise lets it".into());
+    }
+    out.extend(outweighed(rivals, models));
     if named(Kind::ScaleFactor) {
         out.push(
             "scale_factor: an amplitude off the latitude's prediction is also what a wrong latitude_deg would give"
@@ -54,6 +58,32 @@ pub fn notes(findings: &[Finding], rivals: &[(Kind, Kind)], models: &[Weighted],
         .collect();
     if shared.len() > 1 {
         out.push(format!("models sharing the result: {}", shared.join("; ")));
+    }
+    out
+}
+
+/// The rival explanations that the averaging all but drops (under 5 % of the weight, where
+/// "models sharing the result" does not show them), with the azimuth each would give: a
+/// significant alternative is said even where the information criterion outweighs it.
+fn outweighed(rivals: &[(Kind, Kind)], models: &[Weighted]) -> Vec<String> {
+    let mut said: Vec<(Kind, Kind)> = Vec::new();
+    let mut out = Vec::new();
+    for &(chosen, alt) in rivals {
+        if said.contains(&(chosen, alt)) {
+            continue;
+        }
+        said.push((chosen, alt));
+        let label = format!("{} instead of {}", alt.name(), chosen.name());
+        if let Some(m) = models.iter().find(|m| m.label == label && m.weight < 0.05) {
+            out.push(format!(
+                "{} was significant too where {} was named, but weighs {:.3} in the result: with it instead, psi {:.5} deg +- {:.2}\"",
+                alt.name(),
+                chosen.name(),
+                m.weight,
+                m.summary.azimuth_deg,
+                m.summary.sigma_arcsec
+            ));
+        }
     }
     out
 }
@@ -99,5 +129,49 @@ fn number(v: f64) -> String {
         format!("{v:.3}")
     } else {
         format!("{v:.3e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::Summary;
+
+    fn model(label: &str, weight: f64, azimuth_deg: f64) -> Weighted {
+        Weighted {
+            label: label.into(),
+            weight,
+            summary: Summary {
+                azimuth_deg,
+                rss: 1.0,
+                sigma_arcsec: 30.0,
+            },
+        }
+    }
+
+    #[test]
+    fn a_rival_the_averaging_all_but_drops_is_said_with_its_azimuth_once() {
+        let models = [
+            model("Eq. 7", 0.0, 10.0),
+            model("thermal_drift instead of encoder_error", 0.012, 10.01),
+            model("encoder_error", 0.988, 9.9),
+            model("bias_jump instead of encoder_error", 0.2, 10.02),
+        ];
+        let rivals = [
+            (Kind::EncoderError, Kind::ThermalDrift),
+            (Kind::EncoderError, Kind::ThermalDrift),
+            // Weighed enough to be among the models sharing the result.
+            (Kind::EncoderError, Kind::BiasJump),
+            // Met without a model of its own (no columns).
+            (Kind::EncoderError, Kind::SettlingTransient),
+        ];
+        let said = outweighed(&rivals, &models);
+        assert_eq!(said.len(), 1, "{said:?}");
+        assert!(said[0].starts_with("thermal_drift was significant too where encoder_error was named"));
+        assert!(
+            said[0].contains("weighs 0.012") && said[0].contains("psi 10.01000 deg"),
+            "{}",
+            said[0]
+        );
     }
 }
