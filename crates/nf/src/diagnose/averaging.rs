@@ -3,6 +3,7 @@
 //! between them to their own. A weak finding then moves the azimuth only as far as its
 //! evidence goes, and two models that explain the data equally share the result.
 
+use super::kind::Kind;
 use super::model::{Model, Summary, summary};
 use nf_model::angle::{wrap_180, wrap_360};
 
@@ -12,6 +13,8 @@ pub struct Variant {
     pub model: Model,
     /// Parameters a scan chose, counted by the criterion beside the columns.
     pub scanned: usize,
+    /// The effect named at a step and the rival this model has in its place, if it is one.
+    pub rival: Option<(Kind, Kind)>,
 }
 
 #[derive(Debug, Clone)]
@@ -19,28 +22,31 @@ pub struct Weighted {
     pub label: String,
     pub weight: f64,
     pub summary: Summary,
+    /// As the variant's: the effect named and the rival in its place.
+    pub rival: Option<(Kind, Kind)>,
 }
 
 /// The averaged summary (RSS of the heaviest model) and each model's weight.
 pub fn average(variants: &[Variant]) -> Option<(Summary, Vec<Weighted>)> {
-    let fits: Vec<(f64, Summary, &str)> = variants
+    let fits: Vec<(f64, Summary, &Variant)> = variants
         .iter()
         .filter_map(|v| {
             let ls = v.model.fit()?;
             let n = ls.resid.len() as f64;
             let k = (v.model.cols.len() + v.scanned) as f64;
             let bic = n * (ls.rss / n).ln() + k * n.ln();
-            Some((bic, summary(&ls), v.label.as_str()))
+            Some((bic, summary(&ls), v))
         })
         .collect();
     let low = fits.iter().map(|f| f.0).fold(f64::MAX, f64::min);
     let total: f64 = fits.iter().map(|f| (-(f.0 - low) / 2.0).exp()).sum();
     let out: Vec<Weighted> = fits
         .iter()
-        .map(|(bic, s, label)| Weighted {
-            label: label.to_string(),
+        .map(|(bic, s, v)| Weighted {
+            label: v.label.clone(),
             weight: (-(bic - low) / 2.0).exp() / total,
             summary: *s,
+            rival: v.rival,
         })
         .collect();
     let top = out.iter().max_by(|a, b| a.weight.total_cmp(&b.weight))?;

@@ -73,8 +73,10 @@ fn outweighed(rivals: &[(Kind, Kind)], models: &[Weighted]) -> Vec<String> {
             continue;
         }
         said.push((chosen, alt));
-        let label = format!("{} instead of {}", alt.name(), chosen.name());
-        if let Some(m) = models.iter().find(|m| m.label == label && m.weight < 0.05) {
+        if let Some(m) = models
+            .iter()
+            .find(|m| m.rival == Some((chosen, alt)) && m.weight < 0.05)
+        {
             out.push(format!(
                 "{} was significant too where {} was named, but weighs {:.3} in the result: with it instead, psi {:.5} deg +- {:.2}\"",
                 alt.name(),
@@ -137,7 +139,7 @@ mod tests {
     use super::*;
     use crate::diagnose::Summary;
 
-    fn model(label: &str, weight: f64, azimuth_deg: f64) -> Weighted {
+    fn model(label: &str, rival: Option<(Kind, Kind)>, weight: f64, azimuth_deg: f64) -> Weighted {
         Weighted {
             label: label.into(),
             weight,
@@ -146,16 +148,23 @@ mod tests {
                 rss: 1.0,
                 sigma_arcsec: 30.0,
             },
+            rival,
         }
     }
 
     #[test]
     fn a_rival_the_averaging_all_but_drops_is_said_with_its_azimuth_once() {
+        let (enc, thermal, jump) = (Kind::EncoderError, Kind::ThermalDrift, Kind::BiasJump);
         let models = [
-            model("Eq. 7", 0.0, 10.0),
-            model("thermal_drift instead of encoder_error", 0.012, 10.01),
-            model("encoder_error", 0.988, 9.9),
-            model("bias_jump instead of encoder_error", 0.2, 10.02),
+            model("Eq. 7", None, 0.0, 10.0),
+            model(
+                "thermal_drift instead of encoder_error",
+                Some((enc, thermal)),
+                0.012,
+                10.01,
+            ),
+            model("encoder_error", None, 0.988, 9.9),
+            model("bias_jump instead of encoder_error", Some((enc, jump)), 0.2, 10.02),
         ];
         let rivals = [
             (Kind::EncoderError, Kind::ThermalDrift),

@@ -79,7 +79,7 @@ impl<'a> Selector<'a> {
         let mut model = start;
         let mut fit = model.fit().ok_or("the positions do not determine A cos + B sin + C")?;
         let mut findings: Vec<Finding> = Vec::new();
-        let mut variants = vec![variant("Eq. 7", &model, 0)];
+        let mut variants = vec![variant("Eq. 7", &model, 0, None)];
         let mut rivals = Vec::new();
         let mut scanned = 0;
         let mut steps = 0;
@@ -103,6 +103,7 @@ impl<'a> Selector<'a> {
                             &format!("{} instead of {}", alt.kind.name(), chosen.kind.name()),
                             &m,
                             scanned + alt.scanned,
+                            Some((chosen.kind, alt.kind)),
                         ),
                     );
                 }
@@ -121,7 +122,7 @@ impl<'a> Selector<'a> {
                     .chain([chosen.kind.name()])
                     .collect::<Vec<_>>()
                     .join(" + ");
-                meet(&mut variants, true, variant(&label, &model, scanned));
+                meet(&mut variants, true, variant(&label, &model, scanned, None));
             }
             absorb(&mut findings, chosen, summary(&fit));
         }
@@ -256,11 +257,12 @@ fn meet(variants: &mut Vec<Variant>, chain: bool, v: Variant) {
     }
 }
 
-fn variant(label: &str, model: &Model, scanned: usize) -> Variant {
+fn variant(label: &str, model: &Model, scanned: usize, rival: Option<(Kind, Kind)>) -> Variant {
     Variant {
         label: label.into(),
         model: model.clone(),
         scanned,
+        rival,
     }
 }
 
@@ -324,10 +326,15 @@ mod tests {
         let step: Vec<f64> = (0..6).map(|i| f64::from(u8::from(i >= 3))).collect();
         let jump = base.with(Some(Kind::BiasJump), vec![step.clone()], &w);
         let mut met = Vec::new();
-        meet(&mut met, true, variant("Eq. 7", &base, 0));
-        meet(&mut met, false, variant("bias_jump instead of shaft_tilt", &jump, 1));
+        meet(&mut met, true, variant("Eq. 7", &base, 0, None));
+        let rival = Some((Kind::ShaftTilt, Kind::BiasJump));
+        meet(
+            &mut met,
+            false,
+            variant("bias_jump instead of shaft_tilt", &jump, 1, rival),
+        );
         // The tilt adds no column: the next step's chain is the same model.
-        meet(&mut met, true, variant("shaft_tilt + bias_jump", &jump, 1));
+        meet(&mut met, true, variant("shaft_tilt + bias_jump", &jump, 1, None));
         assert_eq!(
             met.iter().map(|v| v.label.as_str()).collect::<Vec<_>>(),
             ["Eq. 7", "shaft_tilt + bias_jump"]
@@ -337,7 +344,7 @@ mod tests {
         meet(
             &mut met,
             false,
-            variant("a", &base.with(Some(Kind::BiasJump), vec![other], &w), 1),
+            variant("a", &base.with(Some(Kind::BiasJump), vec![other], &w), 1, None),
         );
         assert_eq!(met.len(), 3);
     }
