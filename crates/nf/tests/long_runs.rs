@@ -5,6 +5,7 @@
 use nf::analysis::{self, analyse};
 use nf::diagnose::{Options, diagnose};
 use nf::recording::Recording;
+use nf_model::angle::wrap_180;
 use nf_model::rng::Rng;
 use nf_twin::QuarteredRecording;
 
@@ -13,6 +14,20 @@ const PSI_DEG: f64 = 65.5;
 /// White noise of a quarter-dwell mean, and the walk's step per position (1.2 s), deg/h.
 const QUARTER_SD: f64 = 0.02;
 const WALK_STEP: f64 = 0.0005;
+
+/// An azimuth's error against the truth, arcsec.
+fn error_arcsec(psi_deg: f64) -> f64 {
+    wrap_180(psi_deg - PSI_DEG) * 3600.0
+}
+
+/// `nf fit` without the bootstrap: its replicates would cost a long run's noise estimate
+/// each.
+fn without_replicates() -> analysis::Options {
+    analysis::Options {
+        replicates: 0,
+        ..analysis::Options::default()
+    }
+}
 
 /// A sequential run turning 0.5 deg per position, 1 s dwells 1.2 s apart, white noise and a
 /// rate random walk, in the recording format.
@@ -53,7 +68,7 @@ fn a_long_random_walk_run_is_estimated_from_a_thinned_series_and_names_nothing()
         // The drift and jump tests' model keeps the walk: flicker and walk only.
         let k = d.drift_model.rrw_dph_rth;
         assert!((k / k_true - 1.0).abs() < 0.3, "seed {seed}: K {k} against {k_true}");
-        let err = ((d.final_.azimuth_deg - PSI_DEG + 540.0) % 360.0 - 180.0) * 3600.0;
+        let err = error_arcsec(d.final_.azimuth_deg);
         z2 += (err / d.final_.sigma_arcsec).powi(2);
     }
     let z = (z2 / runs as f64).sqrt();
@@ -62,10 +77,7 @@ fn a_long_random_walk_run_is_estimated_from_a_thinned_series_and_names_nothing()
 
 #[test]
 fn nf_fit_of_a_long_random_walk_run_estimates_from_a_thinned_series_and_fits_every_row() {
-    let opt = analysis::Options {
-        replicates: 0,
-        ..analysis::Options::default()
-    };
+    let opt = without_replicates();
     let (mut z2, runs) = (0.0, 4);
     for seed in 0..runs {
         let g = analyse(&walk_run(6000, 60 + seed), &opt).unwrap().gls;
@@ -73,7 +85,7 @@ fn nf_fit_of_a_long_random_walk_run_estimates_from_a_thinned_series_and_fits_eve
         assert!(source.contains("one in 3 of the dwell means"), "{source}");
         // Every row is fitted: the dof of the whitened residuals are those of 6000 positions.
         assert_eq!(g.dof, 6000 - 3);
-        let err = ((g.psi_deg - PSI_DEG + 540.0) % 360.0 - 180.0) * 3600.0;
+        let err = error_arcsec(g.psi_deg);
         z2 += (err / (g.sigma_psi_deg * 3600.0)).powi(2);
     }
     let z = (z2 / runs as f64).sqrt();
@@ -105,10 +117,7 @@ fn shocked_run(n: usize, seed: u64) -> (Recording, Vec<bool>) {
 
 #[test]
 fn nf_fit_of_a_long_shocked_run_goes_through_the_shocks() {
-    let opt = analysis::Options {
-        replicates: 0,
-        ..analysis::Options::default()
-    };
+    let opt = without_replicates();
     let (mut z2, runs) = (0.0, 3);
     for seed in 0..runs {
         let (rec, truth) = shocked_run(3000, 80 + seed);
@@ -135,7 +144,7 @@ fn nf_fit_of_a_long_shocked_run_goes_through_the_shocks() {
             "seed {seed}: {} read as struck or wild",
             found.len()
         );
-        let err = ((g.psi_deg - PSI_DEG + 540.0) % 360.0 - 180.0) * 3600.0;
+        let err = error_arcsec(g.psi_deg);
         z2 += (err / (g.sigma_psi_deg * 3600.0)).powi(2);
     }
     let z = (z2 / runs as f64).sqrt();
