@@ -293,6 +293,46 @@ fn recordings_with_a_bom_a_pole_or_repeated_rows() {
 }
 
 #[test]
+fn files_other_programs_write_get_errors_that_name_their_line() {
+    let rec = recording("other-writers.csv", "12");
+    let text = std::fs::read_to_string(&rec).unwrap();
+    let write = |name: &str, t: &str| {
+        let p = tmp(name);
+        std::fs::write(&p, t).unwrap();
+        p
+    };
+    let v2 = write(
+        "v2.csv",
+        &text.replace("northfinder-recording/1", "northfinder-recording/2"),
+    );
+    refused(
+        &["fit", &v2],
+        &format!("{v2}:1: format 'northfinder-recording/2' is not supported"),
+    );
+    // A bare `#` between metadata lines says nothing and is passed over.
+    let bare = write("bare.csv", &format!("#\n{}", text.replacen('\n', "\n#\n", 1)));
+    let (code, out, err) = nf(&["fit", &bare]);
+    assert!(code == 0 && out.contains("12 positions"), "{err}");
+    let header = text.lines().find(|l| l.starts_with("index")).unwrap();
+    let tabbed = write("tabbed.csv", &text.replace(header, &header.replace(',', "\t")));
+    refused(
+        &["fit", &tabbed],
+        "split by tabs, where the format separates columns by commas",
+    );
+    // A log whose rate never changes has no noise to fit: bad input, as a malformed one.
+    let flat = write(
+        "flat-static.csv",
+        &(0..2000).fold("# format = northfinder-static/1\nt_s,rate_dph\n".to_string(), |t, i| {
+            t + &format!("{},7.25\n", i as f64 * 0.01)
+        }),
+    );
+    let err = refused(&["allan", &flat], "does not vary");
+    assert!(err.starts_with(&format!("nf: {flat}")), "{err}");
+    let (_, out, _) = nf(&["allan", &flat, "--json"]);
+    assert!(out.is_empty(), "{out}");
+}
+
+#[test]
 fn log_strips_colours_skips_invalid_utf8_and_notices_a_lost_rec_line() {
     let rec = recording("for-log.csv", "12");
     let text = std::fs::read_to_string(&rec).unwrap();

@@ -78,6 +78,10 @@ impl<'a> Head<'a> {
             let Some(m) = t.strip_prefix('#') else {
                 return Head::header(meta, meta_at, repeated, n, t);
             };
+            // A bare `#` sets the metadata apart; it says nothing.
+            if m.trim().is_empty() {
+                continue;
+            }
             let Some((k, v)) = m.split_once('=') else {
                 return err(
                     n,
@@ -193,16 +197,28 @@ impl<'a> Head<'a> {
                 ),
             ),
             Some(f) if f == want => Ok(()),
-            Some(f) => err(0, format!("format '{f}' is not supported (this reader knows {want})")),
+            Some(f) => err(
+                self.meta_line("format"),
+                format!("format '{f}' is not supported (this reader knows {want})"),
+            ),
         }
     }
 
     pub fn require_columns(&self, names: &[&str]) -> Result<(), Error> {
         match names.iter().find(|c| !self.col.contains_key(**c)) {
-            Some(c) => err(
-                self.line,
-                format!("required column '{c}' is missing (header: '{}')", self.header),
-            ),
+            Some(c) => {
+                // A whole header in one cell: the writer used another separator.
+                let other = [('\t', "tabs"), (';', "semicolons")]
+                    .into_iter()
+                    .find(|(sep, _)| self.names.len() == 1 && self.header.contains(*sep))
+                    .map_or(String::new(), |(_, name)| {
+                        format!("; the header is split by {name}, where the format separates columns by commas")
+                    });
+                err(
+                    self.line,
+                    format!("required column '{c}' is missing (header: '{}'){other}", self.header),
+                )
+            }
             None => Ok(()),
         }
     }
@@ -356,7 +372,24 @@ mod tests {
         let h = Head::parse(text).unwrap();
         assert_eq!((h.line, h.meta["a"].as_str()), (4, "b = c"));
         assert_eq!((h.col("rate_dph"), h.col("temp_c")), (Some(1), None));
-        assert!(h.require_format(text, "x/1").is_ok() && h.require_format(text, "y/1").is_err());
+        assert!(h.require_format(text, "x/1").is_ok());
+        assert_eq!(
+            h.require_format(text, "y/1").unwrap_err().to_string(),
+            "line 1: format 'x/1' is not supported (this reader knows y/1)"
+        );
+        let bare = Head::parse("#\n# format = x/1\n#   \nt_s\n").unwrap();
+        assert_eq!((bare.line, bare.meta_line("format")), (4, 2));
+        assert_eq!(
+            Head::parse("# latitude_deg\nt_s\n").unwrap_err().to_string(),
+            "line 1: metadata line without '=': '# latitude_deg' (expected '# key = value')"
+        );
+        let tabs = Head::parse("# format = x/1\nt_s\trate_dph\n").unwrap();
+        assert!(
+            tabs.require_columns(&["t_s"])
+                .unwrap_err()
+                .to_string()
+                .ends_with("; the header is split by tabs, where the format separates columns by commas")
+        );
         let rows: Vec<_> = h.rows(text).collect();
         let (n, r) = rows[0].as_ref().unwrap();
         assert_eq!((*n, r.iter().collect::<Vec<_>>()), (5, vec!["1", "2"]));

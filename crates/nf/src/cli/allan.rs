@@ -76,7 +76,9 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     check(&a)?;
     let text = crate::textfile::read_text(&a.file).map_err(|e| Fail(e.at(&a.file), 2))?;
     let src = Source::parse(&text, a.sample_rate, a.keep_spikes).map_err(|e| Fail(e.at(&a.file), 2))?;
-    let (points, fit) = fit_series(&src.segments(), src.sampling).map_err(|e| Fail(format!("{}: {e}", a.file), 1))?;
+    // A log the terms cannot be fitted to (one that does not vary) is bad input, as a
+    // malformed one is.
+    let (points, fit) = fit_series(&src.segments(), src.sampling).map_err(|e| Fail(format!("{}: {e}", a.file), 2))?;
     let r = Report {
         file: &a.file,
         src: &src,
