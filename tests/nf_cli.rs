@@ -198,6 +198,30 @@ fn simulate_then_fit_json() {
     assert!(j["rss"].as_f64().unwrap() > 0.0);
     assert_eq!(j["tilt_correction"], "exact");
     assert!(j["noise_model"]["sigma_calibration"].as_f64().unwrap() >= 1.0);
+    // The widening holds the calibration; without it the sigma is GLS under the printed model
+    // (the tilt left out, whose circle adds its own share).
+    let level = |extra: &[&str]| {
+        let (code, out, err) = nf(&[&["fit", &rec, "--json", "--tilt", "none"], extra].concat());
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let own = level(&[]);
+    let (m, widening) = (
+        &own["noise_model"],
+        own["noise_model"]["sigma_widening"].as_f64().unwrap(),
+    );
+    assert!(widening >= m["sigma_calibration"].as_f64().unwrap(), "{widening}");
+    let terms = ["arw_deg_rth", "bias_instability_dph", "rrw_dph_rth"].map(|k| m[k].as_f64().unwrap().to_string());
+    let given = level(&["--arw", &terms[0], "--bias-instability", &terms[1], "--rrw", &terms[2]]);
+    assert_eq!(given["noise_model"]["sigma_widening"], 1.0);
+    let (alone, sigma_own) = (
+        given["sigma_arcsec"].as_f64().unwrap(),
+        own["sigma_arcsec"].as_f64().unwrap(),
+    );
+    assert!(
+        (alone * widening / sigma_own - 1.0).abs() < 1e-6,
+        "{alone} {widening} {sigma_own}"
+    );
     let (code, out, err) = nf(&["fit", &rec, "--json", "--replicates", "0"]);
     assert_eq!(code, 0, "{err}");
     let raw: serde_json::Value = serde_json::from_str(&out).unwrap();

@@ -87,6 +87,9 @@ pub struct NoiseFit {
     pub dwell_from: &'static str,
     pub psi_deg: f64,
     pub sigma_psi_deg: f64,
+    /// How many times the azimuth's sigma exceeds GLS under `model` alone: the spread of the
+    /// noise models the recording allows and the replicates' calibration (1 when given).
+    pub widening: f64,
     pub amplitude_dph: f64,
     pub sigma_amplitude_dph: f64,
     pub offset_dph: f64,
@@ -219,6 +222,7 @@ pub fn fit(
         dwell_from,
         psi_deg: wrap_360(v.psi_deg),
         sigma_psi_deg: v.sigma_psi_deg,
+        widening: carried.0,
         amplitude_dph: v.amplitude_dph,
         sigma_amplitude_dph: v.sigma_amplitude_dph,
         offset_dph: g.coef[0],

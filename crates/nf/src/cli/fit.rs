@@ -161,8 +161,9 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         )?;
         writeln!(
             out,
-            "sigma          {:.2} arcsec  (1 sigma, generalised least squares under the noise model{})",
+            "sigma          {:.2} arcsec  (1 sigma, generalised least squares under the noise model{}{})",
             g.sigma_psi_deg * 3600.0,
+            widened(g.widening),
             match an.sigma_inclinometer_deg * 3600.0 {
                 s if s >= 0.005 => format!(", with {s:.2} arcsec from the tilt circle's uncertainty"),
                 _ => String::new(),
@@ -366,4 +367,12 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
             log_y: false,
         },
     ]
+}
+
+/// What the gyro's sigma holds beyond GLS under the printed model alone, when it is more.
+fn widened(widening: f64) -> String {
+    if widening < 1.005 {
+        return String::new();
+    }
+    format!(", widened {widening:.2} times for the noise models this run cannot rule out")
 }

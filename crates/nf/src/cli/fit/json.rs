@@ -107,6 +107,10 @@ struct NoiseModelJson {
     /// The factor a parametric bootstrap scaled the azimuth's sigma by (an estimated model
     /// only; null when given or when no replicate could be drawn).
     sigma_calibration: Option<f64>,
+    /// How many times the gyro's share of `sigma_arcsec` exceeds GLS under this model alone:
+    /// the spread of the noise models the recording allows, and the calibration (1 when the
+    /// model was given).
+    sigma_widening: f64,
     /// Where the model came from: the flags, a file, or estimated from the recording.
     source: String,
 }
@@ -195,6 +199,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
                 NoiseSource::Estimated { calibration, .. } => calibration.map(|c| c.psi),
                 NoiseSource::Given(_) => None,
             },
+            sigma_widening: g.widening,
             source: g.source.describe(),
         },
         psi_fitted_deg: g.psi_deg + 0.0,
