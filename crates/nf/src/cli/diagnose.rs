@@ -305,7 +305,7 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
     for (i, f) in d.findings.iter().enumerate() {
         writeln!(
             out,
-            "{}. {} (p = {:.2e}), in {}",
+            "{}. {} (p = {:.2e}): {}",
             i + 1,
             f.effect.name(),
             f.p_value,
