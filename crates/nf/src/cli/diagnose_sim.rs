@@ -101,13 +101,13 @@ struct PhysicsJson<'a> {
     effect: &'static str,
     /// The parameter compared; its unit is the one its name ends with.
     parameter: &'a str,
-    /// The parameter's value in the recording.
-    recording: f64,
+    /// The parameter's value in the recording; null where the recording does not name it.
+    recording: Option<f64>,
     /// Its standard error in the recording; null where the fit gives none.
     sigma: Option<f64>,
     /// The parameter's value in the simulation.
     simulated: f64,
-    /// Missing, Different, Modelled or OnlyInSimulation.
+    /// Missing, Different, Modelled, OnlyInSimulation or Equivalent.
     verdict: String,
 }
 
@@ -173,7 +173,7 @@ pub fn json(s: &SimReport) -> SimJson<'_> {
             .map(|p| PhysicsJson {
                 effect: p.kind.name(),
                 parameter: &p.parameter.name,
-                recording: p.parameter.value,
+                recording: (p.verdict != Verdict::OnlyInSimulation).then_some(p.parameter.value),
                 sigma: p.parameter.sigma,
                 simulated: p.simulated,
                 verdict: format!("{:?}", p.verdict),
@@ -190,7 +190,7 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
         "\nagainst the simulation (replayed under the recording's plan, dwell {:.3} s):",
         s.dwell_s
     )?;
-    let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict != Verdict::Modelled).collect();
+    let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict.needs_change()).collect();
     if lacking.is_empty() {
         let still = match s.before.mismatches() {
             0 => String::new(),
@@ -210,13 +210,16 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
     }
     for p in &s.physics {
         let sigma = p.parameter.sigma.map_or(String::new(), |v| format!(" +- {v:.4e}"));
+        let recording = match p.verdict {
+            Verdict::OnlyInSimulation => "not named in the recording".to_string(),
+            _ => format!("{:.4e}{sigma} in the recording", p.parameter.value),
+        };
         writeln!(
             out,
-            "  {}: {} ({} = {:.4e}{sigma} in the recording, {:.4e} in the simulation)",
+            "  {}: {} ({} = {:.4e} in the simulation, {recording})",
             p.kind.name(),
             p.verdict,
             p.parameter.name,
-            p.parameter.value,
             p.simulated
         )?;
     }

@@ -143,6 +143,20 @@ pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
     Ok(rec)
 }
 
+/// Refuses, before any work, an output path whose folder does not exist.
+pub(crate) fn folder_exists(path: &str) -> Result<(), Fail> {
+    let parent = std::path::Path::new(path)
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty());
+    match parent {
+        Some(dir) if !dir.is_dir() => Err(Fail(
+            format!("cannot write {path}: the folder {} does not exist", dir.display()),
+            2,
+        )),
+        _ => Ok(()),
+    }
+}
+
 pub(crate) fn write_out(out: &Option<String>, text: &str) -> Result<(), Fail> {
     match out {
         Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 1)),

@@ -156,6 +156,28 @@ fn is_noise(q: Quantity) -> bool {
     )
 }
 
+/// The factor within which the white level the samples' spread gives and the recording's
+/// estimate from its dwell and quarter means must agree for the samples' to be taken: beyond
+/// it the gyro's samples are not white (a sensor's filter, a correlation over seconds), and
+/// the dwell means, which the azimuth is fitted to, decide.
+const SAMPLES_AGREE: f64 = 1.5;
+
+/// The angle random walk of `f` (the recording's estimate put in) from the samples' spread:
+/// `before`'s replays have `file`'s white level, and the spread of thousands of samples in a
+/// dwell is almost all white noise, which it measures far better than the dwell means do.
+fn white_from_samples(f: &mut InstrumentFile, file: &InstrumentFile, cmp: &Comparison) -> Option<String> {
+    let l = cmp.line(Quantity::SampleSd)?;
+    let from_samples = file.noise.arw_deg_rth * l.recording / l.simulated;
+    let estimate = f.noise.arw_deg_rth;
+    if !(from_samples > 0.0 && estimate > 0.0) || (from_samples / estimate).ln().abs() > SAMPLES_AGREE.ln() {
+        return None;
+    }
+    f.noise.arw_deg_rth = from_samples;
+    Some(format!(
+        "noise: angle random walk {from_samples:.4e} deg/sqrt(h) from the samples' spread (the estimate's {estimate:.4e})"
+    ))
+}
+
 /// RMS (C) by which the file's temperature may miss the recording's before the file takes
 /// the recording's ramp.
 const TEMP_TOLERANCE_C: f64 = 0.1;
@@ -217,11 +239,7 @@ fn run_plan(f: &mut InstrumentFile, rec: &Recording, dwell_s: f64) -> Vec<String
         ));
         f.run.dwell_s = dwell_s.clamp(0.01, 600.0);
     }
-    let rate = rec
-        .meta
-        .get("sample_rate_hz")
-        .and_then(|v| v.trim().parse::<u32>().ok());
-    if let Some(r) = rate.filter(|r| (1..=100_000).contains(r) && *r != f.run.sample_rate_hz) {
+    if let Some(r) = plan::sample_rate_hz(rec).filter(|r| *r != f.run.sample_rate_hz) {
         notes.push(format!(
             "run: {r} samples/s (the recording's; the file had {})",
             f.run.sample_rate_hz
@@ -252,7 +270,7 @@ pub fn effects(
         notes.push(n);
     }
     notes.extend(run_plan(&mut f, rec, dwell_s));
-    for p in physics.iter().filter(|p| p.verdict != Verdict::Modelled) {
+    for p in physics.iter().filter(|p| p.verdict.needs_change()) {
         let n = set(&mut f, p, rec, dwell_s, origin_s);
         if !n.is_empty() {
             notes.push(n);
@@ -272,9 +290,11 @@ pub fn moments(
 ) -> (InstrumentFile, Vec<String>) {
     let mut f = file.clone();
     let mut notes = Vec::new();
-    let noise_named = physics
-        .iter()
-        .any(|p| p.kind.is_noise() && p.kind != Kind::HeavyTails && p.verdict != Verdict::Modelled);
+    // A term only a replay named is no reason to take the recording's estimate: one run of
+    // the recording may simply not show it.
+    let noise_named = physics.iter().any(|p| {
+        p.kind.is_noise() && p.kind != Kind::HeavyTails && matches!(p.verdict, Verdict::Missing | Verdict::Different)
+    });
     let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
     let within_dwell = |q: Quantity| matches!(q, Quantity::SampleSd | Quantity::QuarterSd);
     // Only the noise within a dwell differs: the white level, which thousands of samples
@@ -298,6 +318,9 @@ pub fn moments(
             ", made with the named effects in the design"
         };
         notes.push(format!("noise: the recording's estimate ({}{how})", diag.noise_source));
+        if let Some(n) = white_from_samples(&mut f, file, cmp) {
+            notes.push(n);
+        }
     }
     if let Some((r, s)) = off(Quantity::Bias) {
         f.gyro.bias_dph = (f.gyro.bias_dph + r - s).clamp(-50.0, 50.0);

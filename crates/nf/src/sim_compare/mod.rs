@@ -112,6 +112,51 @@ fn replays(file: &InstrumentFile, rec: &Recording, n: usize, origin: f64) -> Rep
     }
 }
 
+/// What a fix is made for: the recording, its profile and diagnosis.
+struct Target<'a> {
+    rec: &'a Recording,
+    mine: &'a profile::Profile,
+    diag: &'a Diagnosis,
+    opt: &'a Options,
+    dwell_s: f64,
+    origin_s: f64,
+}
+
+impl Target<'_> {
+    /// `file` with what `physics` says put in, then moved onto the recording's numbers where
+    /// its replays still differ, and its replays against the recording.
+    fn fix(&self, file: &InstrumentFile, physics: &[Physics]) -> Fixed {
+        let (rec, opt) = (self.rec, self.opt);
+        let (f1, mut changes) = fix::effects(file, physics, rec, self.dwell_s, self.origin_s);
+        let sims1 = replays(&f1, rec, opt.replays, run_origin_s(&f1));
+        let (f2, moved) = fix::moments(
+            &f1,
+            &compare::compare(self.mine, &sims1.profiles, opt.alpha),
+            physics,
+            self.diag,
+        );
+        changes.extend(moved);
+        let sims2 = replays(&f2, rec, opt.replays, run_origin_s(&f2));
+        Fixed {
+            file: f2,
+            changes,
+            after: compare::compare(self.mine, &sims2.profiles, opt.alpha),
+            places: positions::departures(rec, &residuals(rec), &sims2.residuals, opt.alpha),
+            residuals: residuals(&sims2.first),
+        }
+    }
+}
+
+/// The catalogue effects `physics` would change the file by, named.
+fn names_of_effects(physics: &[Physics]) -> String {
+    let names: Vec<&str> = physics
+        .iter()
+        .filter(|p| !p.kind.is_noise() && p.verdict.needs_change())
+        .map(|p| p.kind.name())
+        .collect();
+    names.join(", ")
+}
+
 /// Compares `rec` (diagnosed as `diag`) with the simulation `file`.
 pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &Options) -> Result<SimReport, String> {
     let (dwell_s, _) = crate::noise_fit::dwell_of(rec);
@@ -122,29 +167,36 @@ pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &O
     let recording = residuals(rec);
     let places = positions::departures(rec, &recording, &sims.residuals, opt.alpha);
     let sim_diag = diagnose::diagnose(&sims.first, &opt.diagnose)?;
-    let physics = physics::judge(rec, diag, file, &sim_diag, dwell_s, origin_s);
-    let (f1, mut changes) = fix::effects(file, &physics, rec, dwell_s, origin_s);
-    let sims1 = replays(&f1, rec, opt.replays, run_origin_s(&f1));
-    let (f2, moved) = fix::moments(
-        &f1,
-        &compare::compare(&mine, &sims1.profiles, opt.alpha),
-        &physics,
+    let physics = physics::judge(rec, diag, file, &sim_diag, &before, dwell_s, origin_s);
+    let target = Target {
+        rec,
+        mine: &mine,
         diag,
-    );
-    changes.extend(moved);
-    let sims2 = replays(&f2, rec, opt.replays, run_origin_s(&f2));
+        opt,
+        dwell_s,
+        origin_s,
+    };
+    let mut fixed = target.fix(file, &physics);
+    // A fix must not leave the replays further from the recording: a finding of one run can
+    // be its noise. Then the catalogue effects are left out, if that is closer.
+    let (worse, named) = (fixed.after.mismatches(), names_of_effects(&physics));
+    if worse > before.mismatches() && !named.is_empty() {
+        let noise: Vec<Physics> = physics.iter().filter(|p| p.kind.is_noise()).cloned().collect();
+        let mut without = target.fix(file, &noise);
+        if without.after.mismatches() < worse {
+            without.changes.push(format!(
+                "not written in: {named}; with them {worse} of the quantities differed from the recording's beyond the bound, without them {} (a finding of one run can be its noise)",
+                without.after.mismatches()
+            ));
+            fixed = without;
+        }
+    }
     Ok(SimReport {
         dwell_s,
         physics,
         before,
         places,
-        fixed: Fixed {
-            file: f2,
-            changes,
-            after: compare::compare(&mine, &sims2.profiles, opt.alpha),
-            places: positions::departures(rec, &recording, &sims2.residuals, opt.alpha),
-            residuals: residuals(&sims2.first),
-        },
+        fixed,
         recording,
         simulation: residuals(&sims.first),
     })

@@ -2,6 +2,8 @@
 //! recording's diagnosis names, against the instrument file's value of it; and what a
 //! diagnosis of the simulation names that the recording's does not.
 
+use super::compare::Comparison;
+use super::profile::Quantity;
 use crate::diagnose::{Diagnosis, Finding, Kind, Param, SHOCK_RMS};
 use crate::instrument_file::InstrumentFile;
 use crate::recording::Recording;
@@ -16,8 +18,18 @@ pub enum Verdict {
     Different,
     /// Both have it, of the same size within the recording's uncertainty.
     Modelled,
-    /// The simulation has it, the recording does not show it.
+    /// The simulation has it at a size the recording would show, and the recording does not.
     OnlyInSimulation,
+    /// A colour of noise the recording names that the simulation has as another colour, its
+    /// noise over the run the recording's.
+    Equivalent,
+}
+
+impl Verdict {
+    /// Whether the file should change.
+    pub fn needs_change(self) -> bool {
+        matches!(self, Verdict::Missing | Verdict::Different | Verdict::OnlyInSimulation)
+    }
 }
 
 impl fmt::Display for Verdict {
@@ -26,7 +38,8 @@ impl fmt::Display for Verdict {
             Verdict::Missing => "missing from the simulation",
             Verdict::Different => "in both, of a different size",
             Verdict::Modelled => "in both, the same within its uncertainty",
-            Verdict::OnlyInSimulation => "in the simulation, not shown by the recording",
+            Verdict::OnlyInSimulation => "in the simulation at a size the recording would show, not shown by it",
+            Verdict::Equivalent => "in the simulation as another colour, whose noise over the run is the recording's",
         })
     }
 }
@@ -198,17 +211,51 @@ fn noise_term(kind: Kind, diag: &Diagnosis, f: &Finding) -> Option<Vec<Param>> {
     })
 }
 
+/// An effect the simulation has this many of its standard errors (as a replay's diagnosis
+/// fits it) would be named in the recording too: its absence there contradicts the file.
+const SHOWN_SIGMAS: f64 = 5.0;
+
+/// Whether the recording's diagnosis found `kind` without naming it: as a rival of what it
+/// named, or held back by the noise's wander.
+fn shown_otherwise(diag: &Diagnosis, kind: Kind) -> bool {
+    diag.undecided.iter().any(|u| u.effect == kind)
+        || diag.models.iter().any(|m| m.rival.is_some_and(|(_, alt)| alt == kind))
+}
+
+/// Whether the file has a colour of noise other than `kind`'s.
+fn other_colour(kind: Kind, file: &InstrumentFile) -> bool {
+    let n = &file.noise;
+    [
+        (Kind::BiasInstability, n.bias_instability_dph),
+        (Kind::RateRandomWalk, n.rrw_dph_rth),
+        (Kind::CorrelatedNoise, n.gm_sigma_dph),
+    ]
+    .iter()
+    .any(|&(k, v)| k != kind && v > 0.0)
+}
+
+/// The noise of the dwell means over the run, where colour shows.
+fn over_the_run(q: Quantity) -> bool {
+    matches!(q, Quantity::ResidualSd | Quantity::Allan(_))
+}
+
 /// The effects the recording shows, judged against the file, then those only `sim_diag` (a
-/// diagnosis of a replay of the file) shows.
+/// diagnosis of a replay of the file) shows at a size the recording would show too, where the
+/// recording departs from the replays somewhere. A colour
+/// the file lacks by name but has as another, where `before` (the recording against replays
+/// of the file) finds their noise over the run alike, is equivalent: one run tells flicker, a
+/// walk and a Gauss-Markov bias apart only so far.
 /// `origin_s` is where the run starts on the file's clock.
 pub fn judge(
     rec: &Recording,
     diag: &Diagnosis,
     file: &InstrumentFile,
     sim_diag: &Diagnosis,
+    before: &Comparison,
     dwell_s: f64,
     origin_s: f64,
 ) -> Vec<Physics> {
+    let noise_alike = !before.any(over_the_run);
     let mut out: Vec<Physics> = diag
         .findings
         .iter()
@@ -216,7 +263,10 @@ pub fn judge(
             let found = noise_term(f.effect, diag, f)?;
             let (name, sim) = simulated(f.effect, &found, file, rec, dwell_s, origin_s)?;
             let p = param(&found, name)?.clone();
-            let verdict = verdict(f.effect, &p, &found, sim);
+            let verdict = match verdict(f.effect, &p, &found, sim) {
+                Verdict::Missing if noise_alike && other_colour(f.effect, file) => Verdict::Equivalent,
+                v => v,
+            };
             Some(Physics {
                 kind: f.effect,
                 verdict,
@@ -231,21 +281,34 @@ pub fn judge(
             continue;
         }
         // A finding of the replay that the file has none of is the replay's false alarm.
-        if let Some((name, sim)) =
-            simulated(f.effect, &f.parameters, file, rec, dwell_s, origin_s).filter(|s| s.1 != 0.0)
+        let Some((name, sim)) = simulated(f.effect, &f.parameters, file, rec, dwell_s, origin_s).filter(|s| s.1 != 0.0)
+        else {
+            continue;
+        };
+        // One run misses an effect near its threshold: not named is no evidence against it;
+        // nor is it where the recording found it but named a rival, or the noise's wander
+        // held it back, or where the recording agrees with the file's replays in every
+        // quantity. A colour of noise is judged by the noise's profile instead.
+        let sigma = param(&f.parameters, name).and_then(|p| p.sigma);
+        let colour = f.effect.is_noise() && f.effect != Kind::HeavyTails;
+        if colour
+            || before.mismatches() == 0
+            || sigma.is_some_and(|s| sim.abs() < SHOWN_SIGMAS * s)
+            || shown_otherwise(diag, f.effect)
         {
-            out.push(Physics {
-                kind: f.effect,
-                verdict: Verdict::OnlyInSimulation,
-                parameter: crate::diagnose::Param {
-                    name: name.into(),
-                    value: 0.0,
-                    sigma: None,
-                },
-                simulated: sim,
-                found: f.parameters.clone(),
-            });
+            continue;
         }
+        out.push(Physics {
+            kind: f.effect,
+            verdict: Verdict::OnlyInSimulation,
+            parameter: crate::diagnose::Param {
+                name: name.into(),
+                value: 0.0,
+                sigma: None,
+            },
+            simulated: sim,
+            found: f.parameters.clone(),
+        });
     }
     out
 }

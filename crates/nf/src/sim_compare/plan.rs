@@ -1,5 +1,6 @@
 //! The recording's run plan in an instrument file's terms: its positions, when its angles lie
-//! on an equal grid, and the order it visited them in (a named order, or a list).
+//! on an equal grid, the order it visited them in (a named order, or a list), and its sample
+//! rate.
 
 use crate::recording::Recording;
 use nf_model::order::{MAX_VISITS, Order};
@@ -39,4 +40,13 @@ pub fn infer(rec: &Recording) -> Option<(u16, String)> {
         }
         None => None,
     }
+}
+
+/// The sample rate the recording's metadata gives, where an instrument file can have it.
+pub fn sample_rate_hz(rec: &Recording) -> Option<u32> {
+    rec.meta
+        .get("sample_rate_hz")
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|r| r.fract() == 0.0 && (1.0..=100_000.0).contains(r))
+        .map(|r| r as u32)
 }

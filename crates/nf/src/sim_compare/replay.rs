@@ -1,5 +1,5 @@
 //! An instrument file simulated under a recording's own plan: its positions, in its order, at
-//! its times, with its dwell and its columns. The twin's physics and noise run on in
+//! its times, with its dwell, its sample rate and its columns. The twin's physics and noise run on in
 //! continuous time between the dwells, as they do in a run; the temperature follows the
 //! recording's thermometer.
 
@@ -74,6 +74,14 @@ pub fn run_origin_s(file: &InstrumentFile) -> f64 {
 /// `file`'s instrument run through `rec`'s plan with noise seed `seed`, the run starting at
 /// `origin_s` on the twin's clock.
 pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) -> Recording {
+    // The sample rate is the plan's too: the samples' spread depends on it.
+    let file = &InstrumentFile {
+        run: crate::instrument_file::Run {
+            sample_rate_hz: super::plan::sample_rate_hz(rec).unwrap_or(file.run.sample_rate_hz),
+            ..file.run.clone()
+        },
+        ..file.clone()
+    };
     let mut twin = file.twin();
     twin.seed = seed;
     // The temperature is the recording's, as its times and angles are.
