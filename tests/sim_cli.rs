@@ -107,7 +107,10 @@ fn diagnose_against_a_simulation_names_what_it_lacks_and_the_fix_reproduces_the_
     // A fix that could not be written is refused before the work, not after it.
     let nowhere = format!("{}/no-such-folder/fixed.toml", tmp(""));
     let (code, out, err) = nf(&["diagnose", &rec, "--sim", &base, "--fix", &nowhere]);
-    assert!(code == 2 && out.is_empty() && err.contains("does not exist"), "{code} {err}");
+    assert!(
+        code == 2 && out.is_empty() && err.contains("does not exist"),
+        "{code} {err}"
+    );
     let svg = tmp("sim.svg");
     let (code, out, err) = nf(&[
         "diagnose", &rec, "--sim", &base, "--fix", &fixed, "--json", "--plot", &svg,
