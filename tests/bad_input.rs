@@ -18,6 +18,13 @@ fn recording(name: &str, n: &str) -> String {
     path
 }
 
+/// `text` written to a file `name` of the tests' folder: its path.
+fn write(name: &str, text: &str) -> String {
+    let p = tmp(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
 /// `nf args` with standard output a pipe whose reader has already gone: every write fails
 /// with EPIPE. Returns the exit code and standard error.
 fn into_closed_pipe(args: &[&str]) -> (i32, String) {
@@ -233,11 +240,6 @@ fn a_run_stopped_at_three_positions_reports_its_sigma_as_undefined() {
 fn recordings_with_a_bom_a_pole_or_repeated_rows() {
     let rec = recording("rows.csv", "12");
     let text = std::fs::read_to_string(&rec).unwrap();
-    let write = |name: &str, t: &str| {
-        let p = tmp(name);
-        std::fs::write(&p, t).unwrap();
-        p
-    };
     // A spreadsheet's byte-order mark.
     let bom = write("bom.csv", &format!("\u{FEFF}{text}"));
     let (code, out, err) = nf(&["fit", &bom]);
@@ -296,11 +298,6 @@ fn recordings_with_a_bom_a_pole_or_repeated_rows() {
 fn files_other_programs_write_get_errors_that_name_their_line() {
     let rec = recording("other-writers.csv", "12");
     let text = std::fs::read_to_string(&rec).unwrap();
-    let write = |name: &str, t: &str| {
-        let p = tmp(name);
-        std::fs::write(&p, t).unwrap();
-        p
-    };
     let v2 = write(
         "v2.csv",
         &text.replace("northfinder-recording/1", "northfinder-recording/2"),
