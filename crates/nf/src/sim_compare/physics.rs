@@ -222,16 +222,15 @@ fn shown_otherwise(diag: &Diagnosis, kind: Kind) -> bool {
         || diag.models.iter().any(|m| m.rival.is_some_and(|(_, alt)| alt == kind))
 }
 
-/// Whether the file has a colour of noise other than `kind`'s.
+/// Whether `kind` is a colour of noise and the file has another.
 fn other_colour(kind: Kind, file: &InstrumentFile) -> bool {
     let n = &file.noise;
-    [
+    let colours = [
         (Kind::BiasInstability, n.bias_instability_dph),
         (Kind::RateRandomWalk, n.rrw_dph_rth),
         (Kind::CorrelatedNoise, n.gm_sigma_dph),
-    ]
-    .iter()
-    .any(|&(k, v)| k != kind && v > 0.0)
+    ];
+    colours.iter().any(|&(k, _)| k == kind) && colours.iter().any(|&(k, v)| k != kind && v > 0.0)
 }
 
 /// The noise of the dwell means over the run, where colour shows.
@@ -241,10 +240,10 @@ fn over_the_run(q: Quantity) -> bool {
 
 /// The effects the recording shows, judged against the file, then those only `sim_diag` (a
 /// diagnosis of a replay of the file) shows at a size the recording would show too, where the
-/// recording departs from the replays somewhere. A colour
-/// the file lacks by name but has as another, where `before` (the recording against replays
-/// of the file) finds their noise over the run alike, is equivalent: one run tells flicker, a
-/// walk and a Gauss-Markov bias apart only so far.
+/// recording departs from the replays somewhere. A colour the file lacks by name but has as
+/// another, where `before` (the recording against replays of the file) finds their noise over
+/// the run alike, is equivalent: one run tells flicker, a walk and a Gauss-Markov bias apart
+/// only so far.
 /// `origin_s` is where the run starts on the file's clock.
 pub fn judge(
     rec: &Recording,
@@ -316,6 +315,18 @@ pub fn judge(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_a_colour_of_noise_can_stand_for_another() {
+        let mut file = InstrumentFile::default();
+        file.noise.bias_instability_dph = 0.01;
+        assert!(other_colour(Kind::CorrelatedNoise, &file));
+        assert!(other_colour(Kind::RateRandomWalk, &file));
+        assert!(!other_colour(Kind::BiasInstability, &file), "the same colour");
+        for kind in [Kind::BiasDrift, Kind::HeavyTails, Kind::Outliers] {
+            assert!(!other_colour(kind, &file), "{kind:?}");
+        }
+    }
 
     #[test]
     fn a_term_found_is_missing_from_a_file_without_it_even_where_its_range_reaches_none() {
