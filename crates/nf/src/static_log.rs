@@ -335,7 +335,7 @@ mod tests {
             ("t_s,rate_dph\n0,1\n", 0, "'format' is missing"),
             (
                 "# format = northfinder-recording/1\nt_s,rate_dph\n0,1\n",
-                0,
+                1,
                 "not supported",
             ),
             (

@@ -93,7 +93,7 @@ fn every_bad_recording_names_the_line_and_the_problem() {
         ),
         (
             "# format = northfinder-recording/2\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n",
-            0,
+            1,
             "not supported",
         ),
         (

@@ -3,7 +3,7 @@
 //! its p-value corrected for the n - 4 change points it chose from. A jump falls inside a
 //! dwell as often as not: that dwell's mean then holds part of it, and under a coloured
 //! whitening, which weighs the neighbouring dwells most, a step at a boundary sizes it short
-//! (a third short at mid-dwell). So the chosen step is then let fall inside either
+//! (0.83-0.89 of it in twin runs). So the chosen step is then let fall inside either
 //! neighbouring dwell, at a quarter, a half or three quarters of it.
 
 use super::effect::{Change, Effect, Law, Proposal, State, f_test, param};

@@ -1,7 +1,7 @@
 //! An instrument file simulated under a recording's own plan: its positions, in its order, at
-//! its times, with its dwell, its sample rate and its columns. The twin's physics and noise run on in
-//! continuous time between the dwells, as they do in a run; the temperature follows the
-//! recording's thermometer.
+//! its times, with its dwell, its sample rate and its columns. The twin's physics and noise
+//! run on in continuous time between the dwells, as they do in a run; the temperature follows
+//! the recording's thermometer.
 
 use crate::instrument_file::InstrumentFile;
 use crate::noise_fit::dwell_of;
