@@ -13,6 +13,7 @@ pub use sections::{
 use crate::textfile::{Error, err};
 use nf_instrument::run::{RunConfig, TiltPolicy};
 use nf_model::exact::Instrument;
+use nf_model::noise::NoiseError;
 use nf_model::order::Order;
 use nf_twin::{BiasJump, EncoderHarmonic, TwinConfig};
 use serde::{Deserialize, Serialize};
@@ -132,10 +133,12 @@ impl InstrumentFile {
             );
         }
         if let Err(e) = self.noise.model().validate() {
-            return err(
-                line_of(text, "gm_sigma_dph").max(line_of(text, "student_t_dof")),
-                format!("[noise]: {e}"),
-            );
+            let key = match e {
+                NoiseError::Invalid(key) => key,
+                NoiseError::GmWithoutTau => "gm_sigma_dph",
+                NoiseError::DofTooSmall => "student_t_dof",
+            };
+            return err(line_of(text, key), format!("[noise]: {e}"));
         }
         if let Err(e) = self.order().and_then(|o| o.check(self.run.positions).map(|()| o)) {
             return err(line_of(text, "order"), format!("[run] order `{}`: {e}", self.run.order));

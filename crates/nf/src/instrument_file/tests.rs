@@ -234,4 +234,10 @@ fn a_noise_model_the_twin_cannot_run_is_refused() {
     let e = parse_err(&format!("{HEAD}[noise]\ngm_sigma_dph = 0.01\n"));
     assert!(e.what.contains("[noise]"), "{e}");
     assert_eq!(e.line, 3);
+    // The line of the term at fault, not the last of the terms that can be (an audit found
+    // a Gauss-Markov sigma without its time reported at `student_t_dof`).
+    let e = parse_err(&format!("{HEAD}[noise]\ngm_sigma_dph = 0.01\nstudent_t_dof = 4.0\n"));
+    assert_eq!(e.line, 3, "{e}");
+    let e = parse_err(&format!("{HEAD}[noise]\nstudent_t_dof = 1.5\ngm_tau_s = 3.0\n"));
+    assert_eq!(e.line, 3, "{e}");
 }
