@@ -32,7 +32,7 @@ impl Effect for BiasJump {
             .min_by(|a, b| a.0.total_cmp(&b.0));
         let Some((p, j, big)) = best else { return Vec::new() };
         let at = within(s, j).unwrap_or(Within {
-            col: (0..n).map(|i| if i >= j { 1.0 } else { 0.0 }).collect(),
+            col: step_column(n, j, 1.0),
             size: (big.coef, big.sigma()),
             dwell: None,
         });
@@ -91,15 +91,6 @@ struct Within {
 fn within(s: &State, j: usize) -> Option<Within> {
     let n = s.data.n();
     let frame = s.drift;
-    let column = |k: usize, after: f64| -> Vec<f64> {
-        (0..n)
-            .map(|i| match i.cmp(&k) {
-                std::cmp::Ordering::Less => 0.0,
-                std::cmp::Ordering::Equal => after,
-                std::cmp::Ordering::Greater => 1.0,
-            })
-            .collect()
-    };
     let candidates = std::iter::once((j, 1.0, None)).chain(
         [j - 1, j]
             .into_iter()
@@ -107,7 +98,7 @@ fn within(s: &State, j: usize) -> Option<Within> {
     );
     candidates
         .filter_map(|(k, after, dwell)| {
-            let col = column(k, after);
+            let col = step_column(n, k, after);
             let ls = frame.model.fit_plus(&[frame.whitener.apply(&col)])?;
             let last = ls.coef.len() - 1;
             let size = (ls.coef[last], ls.sigma(last));
@@ -115,4 +106,16 @@ fn within(s: &State, j: usize) -> Option<Within> {
         })
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, w)| w)
+}
+
+/// A step of 1 over `n` positions: 0 before position `k`, 1 after it, and `after` (the share
+/// of its dwell after the step) at it.
+fn step_column(n: usize, k: usize, after: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| match i.cmp(&k) {
+            std::cmp::Ordering::Less => 0.0,
+            std::cmp::Ordering::Equal => after,
+            std::cmp::Ordering::Greater => 1.0,
+        })
+        .collect()
 }

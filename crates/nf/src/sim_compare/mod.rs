@@ -130,9 +130,11 @@ fn replays(file: &InstrumentFile, rec: &Recording, n: usize, origin: f64) -> Rep
     }
 }
 
-/// What a fix is made for: the recording, its profile and diagnosis.
+/// What a fix is made for: the recording, its residuals, profile and diagnosis.
 struct Target<'a> {
     rec: &'a Recording,
+    /// Its Eq. 7 residuals.
+    recording: &'a Residuals,
     mine: &'a profile::Profile,
     diag: &'a Diagnosis,
     opt: &'a Options,
@@ -159,7 +161,7 @@ impl Target<'_> {
             file: f2,
             changes,
             after: compare::compare(self.mine, &sims2.profiles, opt.alpha),
-            places: positions::departures(rec, &residuals(rec), &sims2.residuals, opt.alpha),
+            places: positions::departures(rec, self.recording, &sims2.residuals, opt.alpha),
             residuals: residuals(&sims2.first),
         }
     }
@@ -188,6 +190,7 @@ pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &O
     let physics = physics::judge(rec, diag, file, &sim_diag, &before, dwell_s, origin_s);
     let target = Target {
         rec,
+        recording: &recording,
         mine: &mine,
         diag,
         opt,
