@@ -743,6 +743,35 @@ fn simulate_rejects_bad_parameters_and_reports_failed_runs() {
 }
 
 #[test]
+fn simulate_warns_of_a_list_that_visits_unevenly_and_runs_it() {
+    let rec = tmp("uneven.csv");
+    let (code, _, err) = nf(&[
+        "simulate",
+        "--n",
+        "6",
+        "--order",
+        "0,1,2,2,5",
+        "--dwell",
+        "0.2",
+        "-o",
+        &rec,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("nf: warning: the order visits 4 of the 6 positions (never position 3), each 0 to 2 times"),
+        "{err}"
+    );
+    let rows = std::fs::read_to_string(&rec).unwrap();
+    assert_eq!(
+        rows.lines().filter(|l| !l.starts_with('#')).count(),
+        6,
+        "header and 5 dwells"
+    );
+    let (code, _, err) = nf(&["simulate", "--n", "4", "--order", "0,1,2,3,3,2,1,0", "--dwell", "0.2"]);
+    assert!(code == 0 && !err.contains("warning"), "{err}");
+}
+
+#[test]
 fn diagnose_json_schema_and_bad_inputs() {
     let mut twin = TwinConfig::default();
     twin.instrument.tilt_deg = 0.0;

@@ -598,6 +598,12 @@ where
         cfg.dwell_ms,
         cfg.latitude_deg
     );
+    if let Some(u) = cfg.order.uneven(cfg.positions) {
+        warn!(
+            "run: the order visits {} of {} positions, each {} to {} times: a drift cancels only over an even coverage",
+            u.visited, cfg.positions, u.least, u.most
+        );
+    }
     report.result = async {
         report.levelling = Some(ctx.levelling().await?);
         ctx.header().await;

@@ -30,6 +30,41 @@ pub enum Order {
     List(VisitList),
 }
 
+/// How a run covers its positions when not evenly ([`Order::uneven`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Uneven {
+    /// Positions visited at least once.
+    pub visited: u16,
+    /// The lowest position never visited.
+    pub first_missed: Option<u16>,
+    /// Fewest and most visits of one position.
+    pub least: u16,
+    pub most: u16,
+}
+
+impl Uneven {
+    /// A warning for a person, through `write_str` alone (no `core::fmt` on the MCU).
+    pub fn write_message<W: core::fmt::Write>(&self, w: &mut W, n: u16) -> core::fmt::Result {
+        let num = |w: &mut W, v: u16| crate::text::write_u64(w, v as u64);
+        w.write_str("the order visits ")?;
+        num(w, self.visited)?;
+        w.write_str(" of the ")?;
+        num(w, n)?;
+        w.write_str(" positions")?;
+        if let Some(p) = self.first_missed {
+            w.write_str(" (never position ")?;
+            num(w, p)?;
+            w.write_str(")")?;
+        }
+        w.write_str(", each ")?;
+        num(w, self.least)?;
+        w.write_str(" to ")?;
+        num(w, self.most)?;
+        w.write_str(" times: the fit takes it, but a drift or a slow wander cancels only over positions visited evenly")
+    }
+}
+
 /// A listed order: position numbers in visiting order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct VisitList {
@@ -251,6 +286,33 @@ impl Order {
     pub fn positions(&self, n: u16) -> impl Iterator<Item = u16> + '_ {
         (0..self.visits(n)).map(move |j| self.position(n, j))
     }
+
+    /// How unevenly a run over `n` positions visits them; `None` when it visits each equally
+    /// often (every named order does). Eq. 7 takes any three positions, but a drift or a slow
+    /// wander cancels only over an even coverage, so a list that misses or repeats positions
+    /// is worth a word to whoever gave it. Lists only: the named orders are even (tested).
+    /// `n * visits` steps, without a table (no allocator on the MCU).
+    pub fn uneven(&self, n: u16) -> Option<Uneven> {
+        let Order::List(l) = self else { return None };
+        let count = |p: u16| l.as_slice().iter().filter(|&&q| q == p).count() as u16;
+        let mut u = Uneven {
+            visited: 0,
+            first_missed: None,
+            least: u16::MAX,
+            most: 0,
+        };
+        for p in 0..n {
+            let c = count(p);
+            if c == 0 {
+                u.first_missed.get_or_insert(p);
+            } else {
+                u.visited += 1;
+            }
+            u.least = u.least.min(c);
+            u.most = u.most.max(c);
+        }
+        (u.least != u.most).then_some(u)
+    }
 }
 
 #[cfg(feature = "defmt")]
@@ -329,6 +391,37 @@ mod tests {
                 assert!(count.iter().all(|&c| c == each), "{} at n = {n}", o.name());
             }
         }
+    }
+
+    #[test]
+    fn an_uneven_list_says_how_and_an_even_one_nothing() {
+        let uneven = |s: &str, n: u16| Order::parse(s).unwrap().uneven(n);
+        assert_eq!(uneven("0,1,2,3,3,2,1,0", 4), None);
+        let u = uneven("0,1,2,2,5", 6).unwrap();
+        assert_eq!(
+            u,
+            Uneven {
+                visited: 4,
+                first_missed: Some(3),
+                least: 0,
+                most: 2
+            }
+        );
+        let mut msg = std::string::String::new();
+        u.write_message(&mut msg, 6).unwrap();
+        assert!(
+            msg.starts_with("the order visits 4 of the 6 positions (never position 3), each 0 to 2 times"),
+            "{msg}"
+        );
+        let all_once_one_twice = uneven("0,1,2,3,0", 4).unwrap();
+        assert_eq!(
+            (
+                all_once_one_twice.first_missed,
+                all_once_one_twice.least,
+                all_once_one_twice.most
+            ),
+            (None, 1, 2)
+        );
     }
 
     /// The first-harmonic projection of a unit linear drift, relative to a sequential sweep's.

@@ -135,6 +135,25 @@ fn gap_notes(spacing: &Spacing, notes: &mut Vec<String>) {
     }
 }
 
+/// An optional column without a value on some lines: said, with the first few lines, so that
+/// no value goes unremarked.
+fn blank_notes(column: &str, lines: &[usize], samples: usize, notes: &mut Vec<String>) {
+    const LISTED: usize = 5;
+    if lines.is_empty() {
+        return;
+    }
+    let mut list: Vec<String> = lines.iter().take(LISTED).map(|l| l.to_string()).collect();
+    if lines.len() > LISTED {
+        list.push("...".into());
+    }
+    let plural = if lines.len() > 1 { "s" } else { "" };
+    notes.push(format!(
+        "{column}: no value on {} of {samples} samples (line{plural} {}): read as not recorded there",
+        lines.len(),
+        list.join(", ")
+    ));
+}
+
 fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> Source {
     let mut notes = Vec::new();
     let meta_rate = log.meta.get("sample_rate_hz").and_then(|v| v.parse().ok());
@@ -143,6 +162,7 @@ fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> S
     if let Some((lo, hi)) = log.temp_span_c {
         notes.push(format!("temp_c from {lo} to {hi} C"));
     }
+    blank_notes("temp_c", &log.temp_blank, log.t_s.len(), &mut notes);
     let found = spikes::find(&log.rate_dph, &log.spacing.segments);
     spike_notes(&found, &log, keep_spikes, &mut notes);
     let mut spacing = log.spacing;
@@ -259,6 +279,25 @@ mod tests {
         assert!((over.sampling.step_s - 0.2).abs() < 1e-12);
         let e = Source::parse("# format = other/1\nt_s,rate_dph\n0,1\n", None, false).unwrap_err();
         assert!(e.what.contains("format 'other/1'"), "{e}");
+    }
+
+    #[test]
+    fn a_blank_temperature_is_said_with_its_lines() {
+        let mut s = String::from("# format = northfinder-static/1\nt_s,rate_dph,temp_c\n");
+        for i in 0..2000 {
+            let temp = if i % 300 == 7 { String::new() } else { "40.0".into() };
+            s += &format!("{},{},{temp}\n", i as f64 * 0.1, (i % 3) as f64);
+        }
+        let src = Source::parse(&s, None, false).unwrap();
+        let note = src.notes.iter().find(|n| n.starts_with("temp_c: no value"));
+        assert_eq!(
+            note.map(String::as_str),
+            Some(
+                "temp_c: no value on 7 of 2000 samples (lines 10, 310, 610, 910, 1210, ...): read as not recorded there"
+            ),
+            "{:?}",
+            src.notes
+        );
     }
 
     #[test]

@@ -163,6 +163,8 @@ pub struct StaticLog {
     pub lines: Vec<usize>,
     /// Lowest and highest `temp_c`, when the log has that column.
     pub temp_span_c: Option<(f64, f64)>,
+    /// The lines whose `temp_c` has no value, when the log has that column.
+    pub temp_blank: Vec<usize>,
     pub spacing: Spacing,
 }
 
@@ -189,6 +191,7 @@ impl StaticLog {
         let (ct, cr, ctemp) = (required("t_s"), required("rate_dph"), head.col("temp_c"));
         let (mut t_s, mut rate_dph, mut lines) = (Vec::new(), Vec::new(), Vec::new());
         let mut temp_span_c: Option<(f64, f64)> = None;
+        let mut temp_blank = Vec::new();
         for row in head.rows(text) {
             let (n, cells) = row?;
             let t = number(n, "t_s", &cells[ct])?;
@@ -204,10 +207,11 @@ impl StaticLog {
                     ),
                 );
             }
-            if let Some(c) = ctemp
-                && let Some(v) = optional(n, "temp_c", &cells[c])?
-            {
-                temp_span_c = Some(temp_span_c.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
+            if let Some(c) = ctemp {
+                match optional(n, "temp_c", &cells[c])? {
+                    Some(v) => temp_span_c = Some(temp_span_c.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v)))),
+                    None => temp_blank.push(n),
+                }
             }
             t_s.push(t);
             rate_dph.push(r);
@@ -225,6 +229,7 @@ impl StaticLog {
             rate_dph,
             lines,
             temp_span_c,
+            temp_blank,
             spacing,
         })
     }
@@ -252,6 +257,7 @@ mod tests {
         let log = StaticLog::parse(&text).unwrap();
         assert_eq!(log.rate_dph, vec![1.0, 2.0, 3.0, 4.0, 5.0]);
         assert_eq!(log.temp_span_c, Some((40.1, 40.3)));
+        assert_eq!(log.temp_blank, vec![5]);
         assert!((log.spacing.step_s - 0.1).abs() < 1e-12);
         assert_eq!(log.spacing.segments, vec![0..3, 3..5]);
         assert_eq!(log.spacing.gaps[0].line, 7);

@@ -90,19 +90,12 @@ fn describe(c: &Candidate) -> String {
 /// The white-noise budgets take every position visited equally often: a list that leaves
 /// some out, or visits some more, is refused rather than planned as if it did.
 fn even_visits(order: &Order, n: u16) -> Result<(), Fail> {
-    let mut counts = vec![0u32; n as usize];
-    for p in order.positions(n) {
-        counts[p as usize] += 1;
-    }
-    let visited = counts.iter().filter(|&&c| c > 0).count();
-    let (lo, hi) = (counts.iter().min(), counts.iter().max());
-    if lo == hi {
-        return Ok(());
-    }
+    let Some(u) = order.uneven(n) else { return Ok(()) };
     Err(Fail(
         format!(
-            "--order: the list visits {visited} of the {n} positions, {}; a plan takes every position visited equally often (a list over all {n}, or --n for the positions it visits)",
-            if visited < n as usize {
+            "--order: the list visits {} of the {n} positions, {}; a plan takes every position visited equally often (a list over all {n}, or --n for the positions it visits)",
+            u.visited,
+            if u.first_missed.is_some() {
                 "leaving the rest out"
             } else {
                 "some more often than others"

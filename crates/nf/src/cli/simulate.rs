@@ -224,6 +224,11 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
         ));
     }
     let run = file.run_config();
+    if let Some(u) = run.order.uneven(run.positions) {
+        let mut msg = String::new();
+        let _ = u.write_message(&mut msg, run.positions);
+        note!("nf: warning: {msg}");
+    }
     let psi = file.site.azimuth_deg;
     let mut rec = Recorder::default();
     let (report, world) = simulate(&twin, &run, &mut rec);
