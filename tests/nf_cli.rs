@@ -629,7 +629,26 @@ fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
     assert_eq!(code, 0);
     let j: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(
-        j["fastest"].is_null() && j["floor"]["sigma_arcsec"].as_f64().unwrap() > 3.0,
+        j["fastest"].is_null()
+            && j["floor"]["sigma_arcsec"].as_f64().unwrap() > 3.0
+            && j["floor"]["time_s"].as_f64().unwrap() <= 400.0,
+        "{out}"
+    );
+    // The text names the limit the best run stands at: the time allowed, or the most positions.
+    let text = |noise: [&'static str; 2], extra: &[&'static str]| {
+        let mut v = vec!["plan", noise[0], noise[1]];
+        v.extend_from_slice(&fast);
+        v.extend_from_slice(extra);
+        nf(&v).1
+    };
+    let out = text(["--bias-instability", "0.004"], &["--target", "3", "--max-time", "400"]);
+    assert!(
+        out.contains("target 3\": not reachable with this gyro and motor in runs up to 400 s (--max-time)"),
+        "{out}"
+    );
+    let out = text(["--rrw", "0.3"], &["--target", "5"]);
+    assert!(
+        out.contains("target 5\": not reachable with this gyro and motor in runs of up to 720 positions, the most a plan takes: the best is opposite-pairs order, n = 720"),
         "{out}"
     );
     let (code, _, err) = nf(&["plan", "--bias-instability", "-1"]);

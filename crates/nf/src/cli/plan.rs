@@ -105,6 +105,30 @@ fn even_visits(order: &Order, n: u16) -> Result<(), Fail> {
     ))
 }
 
+/// Why no run reaches the target: the limit its best run stands at, or the noise's floor.
+fn unreachable(p: &plan_noise::Plan, max_time_s: f64) -> String {
+    let Some(floor) = &p.floor else {
+        return "in any run searched".into();
+    };
+    let most = Space::default().positions.into_iter().max().unwrap_or(0);
+    if floor.n >= most {
+        format!(
+            "in runs of up to {most} positions, the most a plan takes: the best is {}",
+            describe(floor)
+        )
+    } else if floor.time_s > 0.9 * max_time_s {
+        format!(
+            "in runs up to {max_time_s:.0} s (--max-time): the best is {}",
+            describe(floor)
+        )
+    } else {
+        format!(
+            "at any n, dwell and order: the noise sets a floor, the best being {}",
+            describe(floor)
+        )
+    }
+}
+
 pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
     let model = a.noise.apply(NoiseModel::white(a.gyro_noise, a.ref_dwell))?;
     let timing = Timing {
@@ -305,14 +329,11 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                 a.tilt,
                 tilt_arcsec(a.tilt, a.lat)
             )?,
-            None => {
-                let floor = p.floor.as_ref().map_or("no run".to_string(), describe);
-                writeln!(
-                    out,
-                    "target {t}\": not reachable with this gyro and motor in runs up to {:.0} s: the best is {floor}",
-                    a.max_time
-                )?
-            }
+            None => writeln!(
+                out,
+                "target {t}\": not reachable with this gyro and motor {}",
+                unreachable(p, a.max_time)
+            )?,
         }
         for c in &p.per_order {
             writeln!(out, "  fastest {}", describe(c))?;
