@@ -750,10 +750,10 @@ fn simulate_rejects_bad_parameters_and_reports_failed_runs() {
     assert_eq!(code, 2, "{err}");
     let (code, _, err) = nf(&["simulate", "--bogus"]);
     assert_eq!(code, 2, "{err}");
-    // A gyro far noisier than the converter's range: the run fails, and says so in words.
+    // A gyro far noisier than the converter's range: refused before the run, in words.
     let (code, _, err) = nf(&["simulate", "--n", "8", "--arw", "10"]);
     assert!(
-        code == 1 && err.contains("at visit 0") && err.contains("the gyro ADC sat at full scale"),
+        code == 2 && err.contains("this gyro cannot be read by the ADC") && err.contains("white noise of at most"),
         "{code} {err}"
     );
     let (code, out, _) = nf(&["fit", "--help"]);

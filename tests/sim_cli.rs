@@ -62,31 +62,49 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
     assert_eq!(code, 2);
 }
 
-/// A gyro the converter cannot hold: a quantisation step beyond its range is refused before
-/// the run (bad input), noise that saturates it fails the run as the firmware would; each
-/// message names the term and the largest value of it that fits, and the largest fits indeed.
+/// A gyro the converter cannot hold: a quantisation step beyond its range, or white noise
+/// whose 6 sd reach it, is refused before the run (bad input); shocks that saturate it strike
+/// at random and fail the run as the firmware would. Each message names the term and the
+/// largest value of it that fits, and the largest fits indeed.
 #[test]
 fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
     let out = tmp("sat.csv");
+    let largest = |err: &str, term: &str| {
+        err.split(term)
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .unwrap_or_else(|| panic!("no largest value after '{term}' in: {err}"))
+            .to_string()
+    };
     let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", "0.5", "-o", &out]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cannot be read by the ADC"), "{err}");
     assert!(!std::path::Path::new(&out).exists(), "a recording was written");
-    let q = err
-        .split("a quantisation Q of at most ")
-        .nth(1)
-        .and_then(|t| t.split(' ').next())
-        .unwrap_or_else(|| panic!("no largest Q in: {err}"));
     assert!(!err.contains("white noise of at most"), "{err}");
-    let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", q, "-o", &out]);
+    let q = largest(&err, "a quantisation Q of at most ");
+    let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", &q, "-o", &out]);
     assert_eq!(code, 0, "Q = {q}: {err}");
     // 95 deg/h of white noise in one sample at 1 kHz against +-50 deg/h.
-    let (code, _, err) = nf(&["simulate", "--n", "12", "--arw", "0.05", "-o", &out]);
+    let sat = tmp("sat-noise.csv");
+    let (code, _, err) = nf(&["simulate", "--n", "12", "--arw", "0.05", "-o", &sat]);
+    assert!(code == 2 && err.contains("cannot be read by the ADC"), "{code} {err}");
+    assert!(!std::path::Path::new(&sat).exists(), "a recording was written");
+    let n = largest(&err, "Gaussian white noise of at most ");
+    let (code, _, err) = nf(&["simulate", "--n", "12", "--arw", &n, "-o", &sat]);
+    assert_eq!(code, 0, "N = {n}: {err}");
+    // Bursts of 300 deg/h, one under way at any time: the run stops at the first, and says why.
+    let inst = tmp("shaken.toml");
+    let (code, _, err) = nf(&["simulate", "--n", "12", "--save-config", &inst, "-o", &out]);
+    assert_eq!(code, 0, "{err}");
+    let shaken =
+        std::fs::read_to_string(&inst).unwrap() + "\n[shocks]\nper_hour = 3600.0\nsize_dph = 300.0\nduration_s = 1.0\n";
+    std::fs::write(&inst, shaken).unwrap();
+    let (code, _, err) = nf(&["simulate", "--config", &inst, "-o", &out]);
     assert_eq!(code, 1, "{err}");
     assert!(
         err.contains("ADC sat at full scale")
-            && err.contains("0 positions written")
-            && err.contains("Gaussian white noise of at most"),
+            && err.contains("positions written")
+            && err.contains("shocks of sd at most"),
         "{err}"
     );
 }

@@ -55,6 +55,16 @@ impl AdcBudget {
         room <= 0.0 || self.quant_step_dph > room
     }
 
+    /// Whether the white noise alone reaches the full scale within [`NOISE_SDS`] of its sd: a
+    /// run of some 10^5 samples would then saturate almost surely (at 4 sd, one sample in
+    /// 16 000), so it is refused before it starts, at the largest noise that [`explain`] says
+    /// fits. Shocks and a Student-t's tails strike at random and are left to the run.
+    ///
+    /// [`explain`]: AdcBudget::explain
+    pub fn noise_overflows(&self) -> bool {
+        NOISE_SDS * self.white_sd_dph > self.room_dph()
+    }
+
     /// What the steady rate leaves of the full scale for the noise, deg/h.
     fn room_dph(&self) -> f64 {
         self.full_scale_dph - self.steady_dph
@@ -156,6 +166,16 @@ mod tests {
         let text = b.explain();
         assert!(text.contains("Gaussian white noise of at most"), "{text}");
         assert!(!text.contains("quantisation Q"), "{text}");
+        assert!(b.noise_overflows() && !b.always_saturates());
+        // The largest ARW the text gives fits.
+        let n: f64 = text
+            .split("white noise of at most ")
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .and_then(|v| v.parse().ok())
+            .unwrap();
+        twin.noise.arw_deg_rth = n;
+        assert!(!AdcBudget::of(&twin).noise_overflows(), "{n}");
     }
 
     #[test]
@@ -178,7 +198,7 @@ mod tests {
     #[test]
     fn a_quiet_gyro_leaves_the_blame_on_the_input() {
         let b = AdcBudget::of(&TwinConfig::default());
-        assert!(!b.always_saturates());
+        assert!(!b.always_saturates() && !b.noise_overflows());
         let text = b.explain();
         assert!(
             text.ends_with("went beyond") && !text.contains("quantisation"),

@@ -217,7 +217,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     }
     let twin = file.twin();
     let budget = AdcBudget::of(&twin);
-    if budget.always_saturates() {
+    if budget.always_saturates() || budget.noise_overflows() {
         return Err(Fail(
             format!("this gyro cannot be read by the ADC: {}", budget.explain()),
             2,
