@@ -139,7 +139,7 @@ pub fn search(
         for &dwell in &space.dwells_s {
             let lead = coarse.iter().map(|c| c.time_s).fold(f64::INFINITY, f64::min);
             let bound = space.max_time_s.min(REFINE_WITHIN * lead);
-            coarse.extend(scan.dwell(order, dwell, &space.positions, bound, &mut plan));
+            coarse.extend(scan.dwell(order, dwell, space.positions.iter().copied(), bound, &mut plan));
         }
         let lead = coarse.iter().map(|c| c.time_s).fold(f64::INFINITY, f64::min);
         let leads: Vec<Candidate> = coarse
@@ -227,7 +227,7 @@ impl Scan<'_> {
         &self,
         order: &Order,
         dwell: f64,
-        positions: &[usize],
+        positions: impl IntoIterator<Item = usize>,
         bound_s: f64,
         plan: &mut Plan,
     ) -> Option<Candidate> {
@@ -236,7 +236,7 @@ impl Scan<'_> {
             ..*self.timing
         };
         let mut best_here: Option<f64> = None;
-        for &n in positions.iter().filter(|&&n| order.check(n as u16).is_ok()) {
+        for n in positions.into_iter().filter(|&n| order.check(n as u16).is_ok()) {
             let Some(c) = self.run(order, &tm, n, plan) else {
                 continue;
             };
@@ -269,38 +269,27 @@ impl Scan<'_> {
         bound_s: f64,
         plan: &mut Plan,
     ) -> Option<Candidate> {
+        let valid = |n: &usize| order.check(*n as u16).is_ok();
+        let guess = (known.n as f64 * known.dwell_s / dwell).round() as usize;
+        let start = (guess.clamp(4, max_n)..=max_n).find(valid)?;
         let tm = Timing {
             dwell_s: dwell,
             ..*self.timing
         };
-        let valid = |n: &usize| order.check(*n as u16).is_ok();
-        let guess = (known.n as f64 * known.dwell_s / dwell).round() as usize;
-        let start = (guess.clamp(4, max_n)..=max_n).find(valid)?;
-        let first = self.run(order, &tm, start, plan)?;
-        if first.sigma_arcsec <= self.target_arcsec {
-            let mut fewest = first;
-            for n in (4..start).rev().filter(valid) {
-                match self.run(order, &tm, n, plan) {
-                    Some(c) if c.sigma_arcsec <= self.target_arcsec => fewest = c,
-                    _ => break,
+        let reaches = |c: &Candidate| c.sigma_arcsec <= self.target_arcsec;
+        match self.run(order, &tm, start, plan) {
+            Some(first) if reaches(&first) => {
+                let mut fewest = first;
+                for n in (4..start).rev().filter(valid) {
+                    match self.run(order, &tm, n, plan) {
+                        Some(c) if reaches(&c) => fewest = c,
+                        _ => break,
+                    }
                 }
+                (fewest.time_s <= bound_s).then_some(fewest)
             }
-            return (fewest.time_s <= bound_s).then_some(fewest);
+            _ => self.dwell(order, dwell, start + 1..=max_n, bound_s, plan),
         }
-        let mut least = first.sigma_arcsec;
-        for n in (start + 1..=max_n).filter(valid) {
-            let Some(c) = self.run(order, &tm, n, plan) else {
-                continue;
-            };
-            if c.time_s > bound_s || c.sigma_arcsec > 1.5 * least {
-                return None;
-            }
-            if c.sigma_arcsec <= self.target_arcsec {
-                return Some(c);
-            }
-            least = least.min(c.sigma_arcsec);
-        }
-        None
     }
 }
 
