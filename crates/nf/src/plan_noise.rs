@@ -171,9 +171,9 @@ pub fn search(
     } else if let Some(coarse) = plan.floor.clone()
         && let Some(order) = orders.iter().find(|o| o.name() == coarse.order)
     {
-        // Between the grid's points, as for the fastest run: every number of positions at
-        // the floor's dwell and the dwells around it. A floor just above the target can have
-        // a run below it there.
+        // Between the grid's points, as for the fastest run: the fewest positions that reach
+        // the target at the floor's dwell and the dwells around it. A floor just above the
+        // target can have a run below it there.
         let mut found: Option<Candidate> = None;
         for dwell in std::iter::once(coarse.dwell_s).chain(finer_dwells(&space.dwells_s, coarse.dwell_s)) {
             let bound = found.as_ref().map_or(space.max_time_s, |b| b.time_s);
