@@ -10,7 +10,7 @@ use crate::noise_fit::dwell_of;
 use crate::recording::{self, Recording};
 use crate::spikes;
 use crate::static_log::{self, GAP_FACTOR, Spacing, StaticLog};
-use crate::textfile::{Error, Head, err, short};
+use crate::textfile::{Error, Head, blank_cells, err, short};
 
 /// A number for a note: six decimals at most, no trailing zeros.
 
@@ -135,25 +135,6 @@ fn gap_notes(spacing: &Spacing, notes: &mut Vec<String>) {
     }
 }
 
-/// An optional column without a value on some lines: said, with the first few lines, so that
-/// no value goes unremarked.
-fn blank_notes(column: &str, lines: &[usize], samples: usize, notes: &mut Vec<String>) {
-    const LISTED: usize = 5;
-    if lines.is_empty() {
-        return;
-    }
-    let mut list: Vec<String> = lines.iter().take(LISTED).map(|l| l.to_string()).collect();
-    if lines.len() > LISTED {
-        list.push("...".into());
-    }
-    let plural = if lines.len() > 1 { "s" } else { "" };
-    notes.push(format!(
-        "{column}: no value on {} of {samples} samples (line{plural} {}): read as not recorded there",
-        lines.len(),
-        list.join(", ")
-    ));
-}
-
 fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> Source {
     let mut notes = Vec::new();
     let meta_rate = log.meta.get("sample_rate_hz").and_then(|v| v.parse().ok());
@@ -162,7 +143,9 @@ fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> S
     if let Some((lo, hi)) = log.temp_span_c {
         notes.push(format!("temp_c from {lo} to {hi} C"));
     }
-    blank_notes("temp_c", &log.temp_blank, log.t_s.len(), &mut notes);
+    if !log.temp_blank.is_empty() {
+        notes.push(blank_cells("temp_c", &log.temp_blank, log.t_s.len(), "samples"));
+    }
     let found = spikes::find(&log.rate_dph, &log.spacing.segments);
     spike_notes(&found, &log, keep_spikes, &mut notes);
     let mut spacing = log.spacing;

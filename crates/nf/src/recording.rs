@@ -7,7 +7,7 @@
 //! angle on two rows is fine: a run may visit a position twice (`order = forward-back`).
 
 pub use crate::textfile::Error;
-use crate::textfile::{Head, err, is_missing, number, optional as optional_cell, read_text, short};
+use crate::textfile::{Head, blank_cells, err, is_missing, number, optional as optional_cell, read_text, short};
 use std::collections::BTreeMap;
 
 pub const FORMAT: &str = "northfinder-recording/1";
@@ -80,23 +80,11 @@ impl Blanks {
     }
 
     fn warnings(&self, rows: usize) -> Vec<Error> {
-        const LISTED: usize = 5;
         self.lines
             .iter()
-            .map(|(column, lines)| {
-                let mut list: Vec<String> = lines.iter().take(LISTED).map(|l| l.to_string()).collect();
-                if lines.len() > LISTED {
-                    list.push("...".into());
-                }
-                let plural = if lines.len() > 1 { "s" } else { "" };
-                Error {
-                    line: lines[0],
-                    what: format!(
-                        "{column}: no value on {} of {rows} positions (line{plural} {}): read as not recorded there",
-                        lines.len(),
-                        list.join(", ")
-                    ),
-                }
+            .map(|(column, lines)| Error {
+                line: lines[0],
+                what: blank_cells(column, lines, rows, "positions"),
             })
             .collect()
     }

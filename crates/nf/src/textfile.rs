@@ -325,6 +325,22 @@ pub fn read_text(path: &str) -> Result<String, Error> {
     }
 }
 
+/// An optional column without a value on some `lines` of `total` rows (named `rows`), said
+/// once with the first few lines, so that no value goes unremarked.
+pub fn blank_cells(column: &str, lines: &[usize], total: usize, rows: &str) -> String {
+    const LISTED: usize = 5;
+    let mut list: Vec<String> = lines.iter().take(LISTED).map(|l| l.to_string()).collect();
+    if lines.len() > LISTED {
+        list.push("...".into());
+    }
+    let plural = if lines.len() > 1 { "s" } else { "" };
+    format!(
+        "{column}: no value on {} of {total} {rows} (line{plural} {}): read as not recorded there",
+        lines.len(),
+        list.join(", ")
+    )
+}
+
 /// A number as a message gives it: six decimals at most, no trailing zeros (a difference of
 /// two times is 3.4, not 3.3999999999999915).
 pub fn short(x: f64) -> String {
