@@ -1,6 +1,7 @@
 //! Benchmark of `nf allan`'s fit on twin static logs: for each noise case, over many seeds,
-//! the mean and spread of the fitted N, B, K, the RMS of (fitted - true) / stated sigma, and
-//! how often quantisation or a Gauss-Markov term was (falsely) kept.
+//! the mean and spread of the fitted N, B, K, the RMS of (fitted - true) over the side of the
+//! stated interval towards the truth, how often that 68 % interval holds the truth, and how
+//! often quantisation or a Gauss-Markov term was (falsely) kept.
 //!
 //! `cargo run --release --example allan_bench -- [seeds] [hours] [rate_hz]` (default 100 seeds
 //! of 4 h logs at 10 Hz).
@@ -63,6 +64,13 @@ fn main() {
             },
         ),
         (
+            "N + K",
+            NoiseModel {
+                rrw_dph_rth: 0.05,
+                ..white
+            },
+        ),
+        (
             "N + B",
             NoiseModel {
                 bias_instability_dph: 0.02,
@@ -72,7 +80,7 @@ fn main() {
         ("N only", white),
     ];
     println!(
-        "{seeds} seeds per case, {} h at {} Hz; per term: true, mean fitted +- sd, RMS z (nonzero terms)",
+        "{seeds} seeds per case, {} h at {} Hz; per term: true, mean fitted +- sd, RMS z and how many 68 % intervals hold the truth (nonzero terms)",
         len.hours, len.rate_hz
     );
     for (name, truth) in cases {
@@ -80,15 +88,17 @@ fn main() {
         let k = seeds as f64;
         let mut line = format!("{name:<10}");
         for (t, label) in TERMS {
-            let v: Vec<(f64, f64)> = fits
-                .iter()
-                .map(|f| f.param(t).map_or((0.0, 0.0), |p| (p.value, p.sigma)))
-                .collect();
-            let mean = v.iter().map(|x| x.0).sum::<f64>() / k;
-            let sd = (v.iter().map(|x| (x.0 - mean).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
+            let params: Vec<_> = fits.iter().filter_map(|f| f.param(t)).collect();
+            let mean = params.iter().map(|p| p.value).sum::<f64>() / k;
+            let sd = (params.iter().map(|p| (p.value - mean).powi(2)).sum::<f64>() / (k - 1.0)).sqrt();
             let tv = truth_of(&truth, t);
-            let z = (v.iter().map(|x| ((x.0 - tv) / x.1).powi(2)).sum::<f64>() / k).sqrt();
-            let z = if tv > 0.0 { format!("z {z:.2}") } else { "-".into() };
+            let z2 = params.iter().map(|p| p.error_over_sigma(tv).powi(2)).sum::<f64>();
+            let inside = params.iter().filter(|p| p.holds(tv)).count();
+            let z = if tv > 0.0 {
+                format!("z {:.2}, in {inside}", (z2 / k).sqrt())
+            } else {
+                "-".into()
+            };
             line += &format!(" | {label} {tv}: {mean:.6} +- {sd:.6} {z}");
         }
         let q = fits.iter().filter(|f| f.model.quantization_arcsec > 0.0).count();

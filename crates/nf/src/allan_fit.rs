@@ -9,7 +9,7 @@
 //! ramp and a Gauss-Markov term are kept only where an F test against the fit without them
 //! finds them.
 
-use crate::allan::{MIN_POINTS, Point, oavar, octaves};
+use crate::allan::{MIN_POINTS, Point, adev_interval, oavar, octaves};
 use crate::allan_cov::PointCov;
 use crate::allan_model::Sampling;
 use crate::gls::Cov;
@@ -89,13 +89,19 @@ impl Term {
 }
 
 /// A size on its own scale: the square root of the fitted coefficient `coef` (N^2, B^2, ...),
-/// and as its 1-sigma uncertainty the distance to the square root of `coef + coef_sd`: the
-/// delta method's `coef_sd / (2 size)` for a well-determined term, the 1-sigma upper bound
-/// for one fitted at zero.
+/// and its 68 % interval `lo ..= value + sigma`. A coefficient some sd from zero is a
+/// variance estimated from few equivalent degrees of freedom, `2 (coef / coef_sd)^2`
+/// (Satterthwaite), so the interval is that chi-square's, as each Allan point's: the delta
+/// method's symmetric `coef_sd / (2 size)` gave a walk's K RMS error/sigma 1.7 on logs of
+/// an independent generator, its estimates below the truth too sure. A term fitted at zero
+/// has the 1-sigma upper bound `sqrt(coef_sd)`; none is ever below `sqrt(coef + coef_sd)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Param {
     pub value: f64,
+    /// The upper side of the interval.
     pub sigma: f64,
+    /// The lower end of the interval (0 for a term fitted at zero).
+    pub lo: f64,
     pub coef: f64,
     pub coef_sd: f64,
 }
@@ -103,12 +109,38 @@ pub struct Param {
 impl Param {
     fn of(coef: f64, coef_sd: f64) -> Param {
         let value = coef.max(0.0).sqrt();
+        let gauss_hi = (coef + coef_sd).max(0.0).sqrt();
+        let (lo, hi) = if coef > 0.0 && coef_sd > 0.0 {
+            // Below two degrees of freedom the term is within 1 sd of zero, and the chi-square
+            // law of a variance no longer describes it; the bound from zero then takes over.
+            let edf = (2.0 * (coef / coef_sd).powi(2)).max(2.0);
+            let (lo, hi) = adev_interval(coef, edf);
+            (lo, hi.max(gauss_hi))
+        } else {
+            (0.0, gauss_hi)
+        };
         Param {
             value,
-            sigma: (coef + coef_sd).max(0.0).sqrt() - value,
+            sigma: hi - value,
+            lo,
             coef,
             coef_sd,
         }
+    }
+
+    /// `value - truth` over the side of the interval towards `truth`.
+    pub fn error_over_sigma(&self, truth: f64) -> f64 {
+        let side = if truth > self.value {
+            self.sigma
+        } else {
+            self.value - self.lo
+        };
+        (self.value - truth) / side
+    }
+
+    /// Whether `truth` lies within the 68 % interval.
+    pub fn holds(&self, truth: f64) -> bool {
+        (self.lo..=self.value + self.sigma).contains(&truth)
     }
 
     /// Whether zero lies within `k` standard deviations of the coefficient.
@@ -556,9 +588,33 @@ mod tests {
         assert!(close(f.model.rrw_dph_rth, 0.05) && f.model.quantization_arcsec == 0.0);
         assert!(f.chi2 < 1e-12 && f.gm().is_none(), "{f:?}");
         let b = f.param(Term::BiasInstability).unwrap();
-        assert!(b.sigma > 0.0 && b.sigma < 0.1 * b.value);
+        // Its coefficient 5.2 sd from zero: a chi-square interval, wider above.
+        assert!(
+            b.sigma < 0.15 * b.value && b.sigma > b.value - b.lo && b.lo > 0.0,
+            "{b:?}"
+        );
         let ((_, measured), (tau, fitted)) = crate::allan_model::floor(&exact(&truth, s, 100_000), &f.model, s);
         assert!(fitted <= measured && tau > 10.0 && tau < 1000.0, "{tau} {fitted}");
+    }
+
+    #[test]
+    fn a_size_s_interval_is_a_variance_s_chi_square_one() {
+        // At zero: the 1-sigma bound.
+        let zero = Param::of(0.0, 4.0e-4);
+        assert_eq!((zero.value, zero.lo), (0.0, 0.0));
+        assert!((zero.sigma - 0.02).abs() < 1e-12);
+        // Far from zero (z = 100): the delta method's symmetric sd / (2 size).
+        let sure = Param::of(1.0, 0.01);
+        assert!((sure.sigma / 0.005 - 1.0).abs() < 0.02 && (sure.value - sure.lo) / 0.005 > 0.98);
+        // z = 3: 18 degrees of freedom, the chi-square's 68 % interval of the variance.
+        let few = Param::of(0.09, 0.03);
+        // (Wilson-Hilferty quantiles of chi-square with 18 dof at 0.841 and 0.159.)
+        let (lo, hi) = (0.09f64 * 18.0 / 23.88, 0.09f64 * 18.0 / 12.12);
+        assert!((few.lo / lo.sqrt() - 1.0).abs() < 0.02, "{few:?}");
+        assert!(((few.value + few.sigma) / hi.sqrt() - 1.0).abs() < 0.02, "{few:?}");
+        assert!(few.sigma > (0.09f64 + 0.03).sqrt() - 0.3);
+        assert!((few.error_over_sigma(few.value + 2.0 * few.sigma) + 2.0).abs() < 1e-12);
+        assert!(few.holds(few.lo) && !few.holds(0.9 * few.lo));
     }
 
     #[test]

@@ -214,12 +214,13 @@ impl Report<'_> {
                 // The sigma maps the variance coefficient's up through the square root: a
                 // size some sigmas from zero can be a coefficient within noise of zero.
                 Some(p) if p.value > 0.0 && p.consistent_with_zero(2.0) => format!(
-                    "{} +- {} {unit} (not significant: its Allan variance coefficient is {:.1} sd from zero)",
+                    "{} +{} -{} {unit} (not significant: its Allan variance coefficient is {:.1} sd from zero)",
                     g(p.value),
                     g(p.sigma),
+                    g(p.value - p.lo),
                     p.coef / p.coef_sd
                 ),
-                Some(p) if p.value > 0.0 => format!("{} +- {} {unit}", g(p.value), g(p.sigma)),
+                Some(p) if p.value > 0.0 => format!("{} +{} -{} {unit}", g(p.value), g(p.sigma), g(p.value - p.lo)),
                 Some(p) => format!("0 (1-sigma bound {} {unit})", g(p.sigma)),
                 None => match (term, fit.q_test, fit.ramp_test) {
                     (Term::Quantization, Some(t), _) | (Term::Ramp, _, Some(t)) => {
@@ -231,7 +232,13 @@ impl Report<'_> {
             out += &format!("{label:<26} {line}\n");
         }
         let gm = match (fit.gm(), fit.gm_test) {
-            (Some((s, tau)), _) => format!("sigma {} +- {} deg/h, tau {} s", g(s.value), g(s.sigma), g(tau)),
+            (Some((s, tau)), _) => format!(
+                "sigma {} +{} -{} deg/h, tau {} s",
+                g(s.value),
+                g(s.sigma),
+                g(s.value - s.lo),
+                g(tau)
+            ),
             (None, Some((tau, t))) => format!("not significant (best tau {} s, F test p = {})", g(tau), g(t.p_value)),
             (None, None) => "not tested (too few points)".into(),
         };

@@ -8,9 +8,10 @@ use crate::allan_fit::{ALPHA, FTest, Param, Term};
 use crate::allan_model::floor;
 use serde::Serialize;
 
-/// The whole output: the input, the curve, the fit and each fitted term with its sigma. A term
-/// the fit dropped has value 0 and a null sigma; the Gauss-Markov keys are there only when the
-/// fit kept that term.
+/// The whole output: the input, the curve, the fit and each fitted term with its 68 %
+/// interval, `_lo` to value plus `_sigma` (a variance estimated from few degrees of freedom:
+/// the interval is a chi-square's, wider above). A term the fit dropped has value 0 and a null
+/// sigma; the Gauss-Markov keys are there only when the fit kept that term.
 #[derive(Serialize)]
 pub(super) struct AllanJson<'a> {
     /// N with a kept Gauss-Markov term's tail, deg/sqrt(h): the white level of means much
@@ -19,11 +20,15 @@ pub(super) struct AllanJson<'a> {
     arw_beyond_gm_deg_rth: Option<f64>,
     /// Angle random walk N, deg/sqrt(h).
     arw_deg_rth: f64,
-    /// 1-sigma uncertainty of N, deg/sqrt(h); null when the term was dropped.
+    /// Lower end of N's interval, deg/sqrt(h); null when the term was dropped.
+    arw_deg_rth_lo: Option<f64>,
+    /// Upper side of N's interval (its 1-sigma uncertainty), deg/sqrt(h); null when dropped.
     arw_deg_rth_sigma: Option<f64>,
     /// Bias instability B, deg/h.
     bias_instability_dph: f64,
-    /// 1-sigma uncertainty of B, deg/h; null when the term was dropped.
+    /// Lower end of B's interval, deg/h; null when the term was dropped.
+    bias_instability_dph_lo: Option<f64>,
+    /// Upper side of B's interval (its 1-sigma uncertainty), deg/h; null when dropped.
     bias_instability_dph_sigma: Option<f64>,
     /// B's Allan variance coefficient over its standard deviation: B is significant from
     /// about 2 on. (Its sigma maps the coefficient's up through the square root, so a small B
@@ -47,7 +52,10 @@ pub(super) struct AllanJson<'a> {
     /// Gauss-Markov bias standard deviation, deg/h; only when the fit kept the term.
     #[serde(skip_serializing_if = "Option::is_none")]
     gm_sigma_dph: Option<f64>,
-    /// 1-sigma uncertainty of the Gauss-Markov standard deviation, deg/h; only with it.
+    /// Lower end of the Gauss-Markov standard deviation's interval, deg/h; only with it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gm_sigma_dph_lo: Option<f64>,
+    /// Upper side of the Gauss-Markov standard deviation's interval, deg/h; only with it.
     #[serde(skip_serializing_if = "Option::is_none")]
     gm_sigma_dph_sigma: Option<f64>,
     /// Gauss-Markov correlation time, s; only when the fit kept the term.
@@ -55,16 +63,22 @@ pub(super) struct AllanJson<'a> {
     gm_tau_s: Option<f64>,
     /// Quantisation Q, arcsec.
     quantization_arcsec: f64,
-    /// 1-sigma uncertainty of Q, arcsec; null when the term was dropped.
+    /// Lower end of Q's interval, arcsec; null when the term was dropped.
+    quantization_arcsec_lo: Option<f64>,
+    /// Upper side of Q's interval (its 1-sigma uncertainty), arcsec; null when dropped.
     quantization_arcsec_sigma: Option<f64>,
     /// Rate ramp R, deg/h per hour: a trend, not noise (it is no term of the noise model
     /// handed on); 0 when the F test drops it.
     rate_ramp_dph_per_h: f64,
-    /// 1-sigma uncertainty of R; null when the term was dropped.
+    /// Lower end of R's interval, deg/h per hour; null when the term was dropped.
+    rate_ramp_dph_per_h_lo: Option<f64>,
+    /// Upper side of R's interval (its 1-sigma uncertainty), deg/h per hour; null when dropped.
     rate_ramp_dph_per_h_sigma: Option<f64>,
     /// Rate random walk K, deg/h/sqrt(h).
     rrw_dph_rth: f64,
-    /// 1-sigma uncertainty of K, deg/h/sqrt(h); null when the term was dropped.
+    /// Lower end of K's interval, deg/h/sqrt(h); null when the term was dropped.
+    rrw_dph_rth_lo: Option<f64>,
+    /// Upper side of K's interval (its 1-sigma uncertainty), deg/h/sqrt(h); null when dropped.
     rrw_dph_rth_sigma: Option<f64>,
     /// K's Allan variance coefficient over its standard deviation, as `bias_instability_z`.
     rrw_z: Option<f64>,
@@ -178,9 +192,10 @@ impl From<FTest> for Test {
     }
 }
 
-/// A term's value (0 when dropped) and sigma (none when dropped).
-fn term(p: Option<Param>) -> (f64, Option<f64>) {
-    (p.map_or(0.0, |p| p.value), p.map(|p| p.sigma))
+/// A term's value (0 when dropped), and its interval's lower end and upper side (none when
+/// dropped).
+fn term(p: Option<Param>) -> (f64, Option<f64>, Option<f64>) {
+    (p.map_or(0.0, |p| p.value), p.map(|p| p.lo), p.map(|p| p.sigma))
 }
 
 impl<'a> Report<'a> {
@@ -200,9 +215,11 @@ impl<'a> Report<'a> {
         AllanJson {
             arw_beyond_gm_deg_rth: fit.arw_beyond_gm(),
             arw_deg_rth: arw.0,
-            arw_deg_rth_sigma: arw.1,
+            arw_deg_rth_lo: arw.1,
+            arw_deg_rth_sigma: arw.2,
             bias_instability_dph: bi.0,
-            bias_instability_dph_sigma: bi.1,
+            bias_instability_dph_lo: bi.1,
+            bias_instability_dph_sigma: bi.2,
             bias_instability_z: z(Term::BiasInstability),
             ci_level: CI_LEVEL,
             curve: self
@@ -227,14 +244,18 @@ impl<'a> Report<'a> {
                 measured_tau_s: mt,
             },
             gm_sigma_dph: gm.map(|(s, _)| s.value),
+            gm_sigma_dph_lo: gm.map(|(s, _)| s.lo),
             gm_sigma_dph_sigma: gm.map(|(s, _)| s.sigma),
             gm_tau_s: gm.map(|(_, tau)| tau),
             quantization_arcsec: q.0,
-            quantization_arcsec_sigma: q.1,
+            quantization_arcsec_lo: q.1,
+            quantization_arcsec_sigma: q.2,
             rate_ramp_dph_per_h: ramp.0,
-            rate_ramp_dph_per_h_sigma: ramp.1,
+            rate_ramp_dph_per_h_lo: ramp.1,
+            rate_ramp_dph_per_h_sigma: ramp.2,
             rrw_dph_rth: rrw.0,
-            rrw_dph_rth_sigma: rrw.1,
+            rrw_dph_rth_lo: rrw.1,
+            rrw_dph_rth_sigma: rrw.2,
             rrw_z: z(Term::Rrw),
             source: self.source(),
             tests: Tests {
