@@ -94,7 +94,7 @@ impl Term {
 /// (Satterthwaite), so the interval is that chi-square's, as each Allan point's: the delta
 /// method's symmetric `coef_sd / (2 size)` gave a walk's K RMS error/sigma 1.7 on logs of
 /// an independent generator, its estimates below the truth too sure. A term fitted at zero
-/// has the 1-sigma upper bound `sqrt(coef_sd)`; none is ever below `sqrt(coef + coef_sd)`.
+/// has the 1-sigma upper bound `sqrt(coef_sd)`; no upper end is below `sqrt(coef + coef_sd)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Param {
     pub value: f64,
@@ -111,8 +111,8 @@ impl Param {
         let value = coef.max(0.0).sqrt();
         let gauss_hi = (coef + coef_sd).max(0.0).sqrt();
         let (lo, hi) = if coef > 0.0 && coef_sd > 0.0 {
-            // Below two degrees of freedom the term is within 1 sd of zero, and the chi-square
-            // law of a variance no longer describes it; the bound from zero then takes over.
+            // Within 1 sd of zero the coefficient's own law is no chi-square's: two degrees of
+            // freedom at the least, and nearer zero the bound from zero takes over.
             let edf = (2.0 * (coef / coef_sd).powi(2)).max(2.0);
             let (lo, hi) = adev_interval(coef, edf);
             (lo, hi.max(gauss_hi))
