@@ -38,7 +38,7 @@ fn fit(noise: NoiseModel, seed: u64, len: Length) -> AllanFit {
     };
     let mut y = Vec::new();
     log.samples(|_, r| y.push(r));
-    fit_series(&[&y], Sampling::contiguous(1.0 / len.rate_hz))
+    fit_series(&[&y], Sampling::contiguous(1.0 / len.rate_hz), None)
         .expect("the log fits")
         .1
 }

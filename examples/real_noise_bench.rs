@@ -185,8 +185,12 @@ fn main() {
     };
     let allan_path = other.as_deref().unwrap_or(path);
     let allan_log = read(allan_path);
-    let (_, allan) = fit_series(&allan_log.segments(), Sampling::contiguous(allan_log.spacing.step_s))
-        .unwrap_or_else(|e| panic!("{allan_path}: the Allan fit: {e}"));
+    let (_, allan) = fit_series(
+        &allan_log.segments(),
+        Sampling::contiguous(allan_log.spacing.step_s),
+        None,
+    )
+    .unwrap_or_else(|e| panic!("{allan_path}: the Allan fit: {e}"));
     println!("noise model given to nf fit --noise: nf allan of {allan_path}");
     println!("{path}: {} samples at {rate_hz:.3} Hz", log.rate_dph.len());
     println!(

@@ -24,7 +24,7 @@ fn twin_log(noise: NoiseModel, hz: f64, hours: f64, seed: u64) -> nf_twin::Stati
 fn fit_twin(noise: NoiseModel, hz: f64, hours: f64, seed: u64) -> (Vec<nf::allan::Point>, AllanFit) {
     let mut y = Vec::new();
     twin_log(noise, hz, hours, seed).samples(|_, r| y.push(r));
-    fit_series(&[&y], Sampling::contiguous(1.0 / hz)).unwrap()
+    fit_series(&[&y], Sampling::contiguous(1.0 / hz), None).unwrap()
 }
 
 #[test]
@@ -87,7 +87,7 @@ fn a_ramp_is_fitted_as_a_ramp_not_as_random_walk() {
         let hz = 10.0;
         let mut y = Vec::new();
         twin_log(truth, hz, 4.0, seed).samples(|t, v| y.push(v + r * t / 3600.0));
-        let (_, f) = fit_series(&[&y], Sampling::contiguous(1.0 / hz)).unwrap();
+        let (_, f) = fit_series(&[&y], Sampling::contiguous(1.0 / hz), None).unwrap();
         let ramp = f.ramp().unwrap_or_else(|| panic!("seed {seed}: no ramp: {f:?}"));
         let k = f.param(Term::Rrw).unwrap();
         println!(
@@ -149,7 +149,7 @@ fn a_sensor_filter_bending_the_shortest_times_leaves_the_floor_to_flicker() {
         let y: Vec<f64> = (3..raw.len())
             .map(|i| raw[i - 3..=i].iter().sum::<f64>() / 4.0)
             .collect();
-        let (_, f) = fit_series(&[&y], Sampling::contiguous(0.1)).unwrap();
+        let (_, f) = fit_series(&[&y], Sampling::contiguous(0.1), None).unwrap();
         let b = f.param(Term::BiasInstability).unwrap();
         // The filter's white noise is a Gauss-Markov term at the shortest times; beyond it,
         // the white level is the log's.

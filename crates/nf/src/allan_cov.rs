@@ -5,6 +5,7 @@
 use crate::allan::Point;
 use crate::allan_fit::Term;
 use crate::allan_model::{LagGrid, Sampling};
+use crate::allan_removed::Removed;
 use nf_model::noise::NoiseModel;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -13,6 +14,8 @@ pub struct PointCov<'a> {
     points: &'a [Point],
     sampling: Sampling,
     lens: &'a [usize],
+    /// What was fitted out of the series before its Allan variance.
+    removed: Option<&'a Removed>,
     /// Each term's grids at unit size, for every pair of points (row-major, i <= j).
     units: RefCell<Vec<(Term, Rc<Vec<LagGrid>>)>>,
     /// Each term's expected Allan variance at unit size, at every point.
@@ -20,11 +23,19 @@ pub struct PointCov<'a> {
 }
 
 impl<'a> PointCov<'a> {
-    pub fn new(points: &'a [Point], sampling: Sampling, lens: &'a [usize]) -> PointCov<'a> {
+    /// `removed` counts only for one segment of its length.
+    pub fn new(
+        points: &'a [Point],
+        sampling: Sampling,
+        lens: &'a [usize],
+        removed: Option<&'a Removed>,
+    ) -> PointCov<'a> {
+        let removed = removed.filter(|r| lens == [r.values()]);
         PointCov {
             points,
             sampling,
             lens,
+            removed,
             units: RefCell::new(Vec::new()),
             expected: RefCell::new(Vec::new()),
         }
@@ -37,15 +48,21 @@ impl<'a> PointCov<'a> {
             return e.clone();
         }
         let unit = term.unit();
-        let e: Rc<Vec<f64>> = Rc::new(
-            self.points
-                .iter()
-                .map(|p| match term {
-                    Term::Ramp => ramp_avar(self.sampling, p.m),
-                    _ => self.sampling.expected_avar(&unit, p.m),
-                })
-                .collect(),
-        );
+        let mut e: Vec<f64> = self
+            .points
+            .iter()
+            .map(|p| match term {
+                Term::Ramp => ramp_avar(self.sampling, p.m),
+                _ => self.sampling.expected_avar(&unit, p.m),
+            })
+            .collect();
+        if let (Some(r), false) = (self.removed, term == Term::Ramp) {
+            let ms: Vec<usize> = self.points.iter().map(|p| p.m).collect();
+            for (x, lost) in e.iter_mut().zip(r.loss(&unit, self.sampling, &ms)) {
+                *x = (*x - lost).max(0.0);
+            }
+        }
+        let e = Rc::new(e);
         self.expected.borrow_mut().push((term, e.clone()));
         e
     }
@@ -156,7 +173,7 @@ mod tests {
             gm_tau_s: 3.0,
             ..NoiseModel::WHITE_NONE
         };
-        let cov = PointCov::new(&points, sampling, &lens);
+        let cov = PointCov::new(&points, sampling, &lens, None);
         let sum = cov.of(&model);
         let n = points.len();
         for i in 0..n {

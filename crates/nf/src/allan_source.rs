@@ -5,6 +5,7 @@
 
 use crate::allan::{MIN_CLUSTERS, MIN_POINTS, octaves};
 use crate::allan_model::Sampling;
+use crate::allan_removed::Removed;
 use crate::linfit;
 use crate::noise_fit::dwell_of;
 use crate::recording::{self, Recording};
@@ -35,6 +36,8 @@ pub struct Source {
     pub rates: Vec<f64>,
     pub spacing: Spacing,
     pub sampling: Sampling,
+    /// What was fitted out of a recording's dwell means before (its columns in time order).
+    pub removed: Option<Removed>,
     pub notes: Vec<String>,
 }
 
@@ -157,6 +160,7 @@ fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> S
         rates: log.rate_dph,
         spacing,
         sampling: Sampling::contiguous(step),
+        removed: None,
         notes,
     }
 }
@@ -210,19 +214,27 @@ fn from_recording(rec: &Recording, override_hz: Option<f64>) -> Result<Source, E
             .to_string(),
     ];
     notes.extend(rec.warnings.iter().map(Error::to_string));
-    let rates = match linfit::fit(&[ones.clone(), cos, sin], &y) {
+    let harmonic = vec![ones.clone(), cos, sin];
+    let (rates, removed) = match linfit::fit(&harmonic, &y) {
         Some(ls) => {
             notes.push("the Earth-rate harmonic and the bias (A cos + B sin + C, least squares) are removed first: the slowest noise is partly absorbed".into());
-            ls.resid
+            (ls.resid, Removed::new(harmonic))
         }
         None => {
             notes.push("the positions do not determine a harmonic: only the mean is removed".into());
-            linfit::fit(&[ones], &y).map_or(y, |ls| ls.resid)
+            let rates = linfit::fit(std::slice::from_ref(&ones), &y).map_or(y, |ls| ls.resid);
+            (rates, Removed::new(vec![ones]))
         }
     };
     let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
     let lines: Vec<usize> = rows.iter().map(|r| r.line).collect();
     let spacing = Spacing::of(&t, &lines);
+    // The loss is reckoned over one contiguous series; across gaps it is left out.
+    let removed = removed.filter(|_| spacing.segments.len() == 1);
+    notes.push(match removed {
+        Some(_) => "the fit allows for what the removed columns took from each averaging time".into(),
+        None => "the fit does not allow for what the removal took: the log has gaps".into(),
+    });
     let step = step_of(&spacing, None, override_hz, &mut notes);
     let (dwell, from) = dwell_of(rec);
     let window = dwell.min(step);
@@ -240,6 +252,7 @@ fn from_recording(rec: &Recording, override_hz: Option<f64>) -> Result<Source, E
             step_s: step,
             window_s: window,
         },
+        removed,
         notes,
     })
 }
@@ -285,22 +298,33 @@ mod tests {
 
     #[test]
     fn a_recording_loses_its_harmonic_and_keeps_its_dead_time() {
-        let mut s = String::from(
-            "# format = northfinder-recording/1\n# latitude_deg = 40\n# dwell_s = 2\nindex,t_s,encoder_deg,rate_dph\n",
-        );
-        for i in 0..80 {
-            let g = (i * 45 % 360) as f64;
-            let noise = if i % 2 == 0 { 0.01 } else { -0.01 };
-            s += &format!(
-                "{i},{},{g},{}\n",
-                3.0 * i as f64 + 1.0,
-                11.5 * g.to_radians().cos() + 0.3 + noise
+        // 80 dwells, from the 71st on `gap_s` later.
+        let text = |gap_s: f64| {
+            let mut s = String::from(
+                "# format = northfinder-recording/1\n# latitude_deg = 40\n# dwell_s = 2\nindex,t_s,encoder_deg,rate_dph\n",
             );
-        }
+            for i in 0..80 {
+                let g = (i * 45 % 360) as f64;
+                let noise = if i % 2 == 0 { 0.01 } else { -0.01 };
+                let t = 3.0 * i as f64 + 1.0 + if i >= 70 { gap_s } else { 0.0 };
+                s += &format!("{i},{t},{g},{}\n", 11.5 * g.to_radians().cos() + 0.3 + noise);
+            }
+            s
+        };
+        let s = text(0.0);
         let src = Source::parse(&s, None, false).unwrap();
         assert_eq!(src.kind, Kind::Recording);
         assert!(src.rates.iter().all(|r| r.abs() < 0.02), "{:?}", &src.rates[..4]);
         assert_eq!((src.sampling.step_s, src.sampling.window_s), (3.0, 2.0));
+        // The columns removed go with it, for the fit to allow for, unless the log has a gap.
+        assert_eq!(src.removed.as_ref().map(Removed::values), Some(80));
+        assert!(
+            src.notes
+                .iter()
+                .any(|n| n.contains("allows for what the removed columns took"))
+        );
+        let src = Source::parse(&text(40.0), None, false).unwrap();
+        assert!(src.removed.is_none() && src.notes.iter().any(|n| n.contains("the log has gaps")));
         // 40 means are too few: four octaves need 64.
         let short: String = s.lines().take(4 + 40).map(|l| format!("{l}\n")).collect();
         assert!(

@@ -4,6 +4,7 @@ pub mod allan;
 mod allan_cov;
 pub mod allan_fit;
 pub mod allan_model;
+pub mod allan_removed;
 pub mod allan_source;
 pub mod analysis;
 pub mod diagnose;
@@ -38,6 +39,7 @@ mod sweep_run;
 pub mod textfile;
 pub mod tilt;
 mod tilt_sense;
+mod toeplitz;
 pub mod twin_check;
 mod wander_test;
 

@@ -78,7 +78,8 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     let src = Source::parse(&text, a.sample_rate, a.keep_spikes).map_err(|e| Fail(e.at(&a.file), 2))?;
     // A log the terms cannot be fitted to (one that does not vary) is bad input, as a
     // malformed one is.
-    let (points, fit) = fit_series(&src.segments(), src.sampling).map_err(|e| Fail(format!("{}: {e}", a.file), 2))?;
+    let (points, fit) = fit_series(&src.segments(), src.sampling, src.removed.as_ref())
+        .map_err(|e| Fail(format!("{}: {e}", a.file), 2))?;
     let r = Report {
         file: &a.file,
         src: &src,
