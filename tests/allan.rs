@@ -312,7 +312,8 @@ fn cli_json_plot_and_the_noise_file_round_trip() {
         assert!(c[key].is_number(), "{key}");
     }
     assert!(c["lo_dph"].as_f64() < c["adev_dph"].as_f64() && c["adev_dph"].as_f64() < c["hi_dph"].as_f64());
-    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawn.contains("<svg") && !drawn.contains("harmonic took"));
     // The noise file, and the JSON itself, read back as the same model.
     let fitted = nf::noise_file::read(&noise).unwrap();
     assert_eq!(fitted.arw_deg_rth, j["arw_deg_rth"].as_f64().unwrap());
@@ -333,11 +334,17 @@ fn cli_json_plot_and_the_noise_file_round_trip() {
     let long = tmp("long.csv");
     let (code, _, err) = nf(&["simulate", "--n", "96", "--dwell", "1", "--seed", "4", "-o", &long]);
     assert_eq!(code, 0, "{err}");
-    let (code, out, err) = nf(&["allan", &long]);
+    let (code, out, err) = nf(&["allan", &long, "--plot", &svg]);
     assert_eq!(code, 0, "{err}");
     assert!(
         out.contains("recording") && out.contains("N (angle random walk)") && out.contains("floor"),
         "{out}"
+    );
+    // Its plot also draws the fit as the points were fitted: less what the harmonic took.
+    assert!(
+        std::fs::read_to_string(&svg)
+            .unwrap()
+            .contains("fit less what the harmonic took")
     );
 }
 

@@ -307,6 +307,25 @@ impl Report<'_> {
             },
             line("fit: all terms".into(), &fit.model, fit.ramp().map_or(0.0, |r| r.value)),
         ];
+        // What the points were fitted to: the model less what the removed harmonic took.
+        if let Some(removed) = &src.removed {
+            let ms: Vec<usize> = self.points.iter().map(|p| p.m).collect();
+            let lost = removed.loss(&fit.model, src.sampling, &ms);
+            let r = fit.ramp().map_or(0.0, |r| r.value);
+            series.push(Series {
+                name: "fit less what the harmonic took (as measured)".into(),
+                points: self
+                    .points
+                    .iter()
+                    .zip(&lost)
+                    .map(|(p, l)| {
+                        let avar = src.sampling.expected_avar(&fit.model, p.m) + ramp(r, p.tau_s) - l;
+                        (p.tau_s, avar.max(0.0).sqrt())
+                    })
+                    .collect(),
+                style: Style::Line,
+            });
+        }
         for (term, p) in &fit.terms {
             if p.value > 0.0 {
                 let mut m = NoiseModel::WHITE_NONE;
