@@ -129,8 +129,11 @@ impl Param {
         }
     }
 
-    /// `value - truth` over the side of the interval towards `truth`.
+    /// `value - truth` over the side of the interval towards `truth` (0 when they are equal).
     pub fn error_over_sigma(&self, truth: f64) -> f64 {
+        if truth == self.value {
+            return 0.0;
+        }
         let side = if truth > self.value {
             self.sigma
         } else {
@@ -625,6 +628,7 @@ mod tests {
         assert!(((few.value + few.sigma) / hi.sqrt() - 1.0).abs() < 0.02, "{few:?}");
         assert!(few.sigma > (0.09f64 + 0.03).sqrt() - 0.3);
         assert!((few.error_over_sigma(few.value + 2.0 * few.sigma) + 2.0).abs() < 1e-12);
+        assert_eq!(zero.error_over_sigma(0.0), 0.0);
         assert!(few.holds(few.lo) && !few.holds(0.9 * few.lo));
     }
 
