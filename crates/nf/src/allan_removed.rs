@@ -16,6 +16,8 @@ use nf_model::noise::NoiseModel;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Removed {
     cols: Vec<Vec<f64>>,
+    /// Their prefix sums, for every second difference of cluster means.
+    sums: Vec<Vec<f64>>,
     /// The columns' transforms, for `G X` with each model's `G`.
     spectra: toeplitz::Vectors,
     /// `(X'X)^-1`.
@@ -31,7 +33,13 @@ impl Removed {
         }
         let inv = linfit::fit(&cols, &vec![0.0; n])?.cov_unit;
         let spectra = toeplitz::Vectors::of(&cols);
-        Some(Removed { cols, spectra, inv })
+        let sums = cols.iter().map(|c| prefix(c)).collect();
+        Some(Removed {
+            cols,
+            sums,
+            spectra,
+            inv,
+        })
     }
 
     /// The values in the series.
@@ -54,10 +62,7 @@ impl Removed {
             .map(|a| gx.iter().map(|b| dot(a, b)).collect())
             .collect();
         let mid = product(&product(&self.inv, &xgx), &self.inv);
-        let (sx, sgx) = (
-            self.cols.iter().map(|c| prefix(c)).collect::<Vec<_>>(),
-            gx.iter().map(|c| prefix(c)).collect::<Vec<_>>(),
-        );
+        let (sx, sgx) = (&self.sums, gx.iter().map(|c| prefix(c)).collect::<Vec<_>>());
         ms.iter()
             .map(|&m| {
                 let starts = (n + 1).saturating_sub(2 * m);
