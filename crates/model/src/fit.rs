@@ -493,15 +493,30 @@ impl<F: Float> FitResult<F> {
     /// `d psi / d rate` of one position (deg per deg/h): how the estimate moves when that
     /// position's rate moves. Weighted by the position's weight.
     pub fn psi_sensitivity(&self, gamma_deg: F, t_s: F, weight: F) -> F {
-        let row = design_row(&self.cfg, gamma_deg, (t_s - self.t0_s) / self.cfg.t_scale_s);
         let p = self.sol.p;
         // d beta / d y = (R^-1 R^-T) x w.
-        let mut u = [F::zero(); MAX_TERMS];
-        for (k, uk) in u.iter_mut().enumerate().take(p) {
-            *uk = (0..=k).fold(F::zero(), |s, i| s + self.sol.rinv[i][k] * row[i]);
-        }
+        let u = self.r_inv_t_row(gamma_deg, t_s);
         let d = |j: usize| (j..p).fold(F::zero(), |s, k| s + self.sol.rinv[j][k] * u[k]) * weight;
         let (a, b) = (self.sol.coef[1], self.sol.coef[2]);
         ((b * d(1) - a * d(2)) / (a * a + b * b)).to_degrees()
+    }
+
+    /// `x' (X'X)^-1 x` of the columns `x` at `(gamma, t)` (weights as fitted): the variance of
+    /// the fitted value there per unit residual variance. A position the fit left out differs
+    /// from it by `sigma^2 (1 + this)`.
+    pub fn prediction_variance_unit(&self, gamma_deg: F, t_s: F) -> F {
+        self.r_inv_t_row(gamma_deg, t_s)
+            .iter()
+            .fold(F::zero(), |s, v| s + *v * *v)
+    }
+
+    /// `R^-T x` of the columns at `(gamma, t)`.
+    fn r_inv_t_row(&self, gamma_deg: F, t_s: F) -> [F; MAX_TERMS] {
+        let row = design_row(&self.cfg, gamma_deg, (t_s - self.t0_s) / self.cfg.t_scale_s);
+        let mut u = [F::zero(); MAX_TERMS];
+        for (k, uk) in u.iter_mut().enumerate().take(self.sol.p) {
+            *uk = (0..=k).fold(F::zero(), |s, i| s + self.sol.rinv[i][k] * row[i]);
+        }
+        u
     }
 }

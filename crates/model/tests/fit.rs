@@ -233,6 +233,39 @@ fn sensitivity_matches_a_numerical_refit() {
 }
 
 #[test]
+fn prediction_variance_is_the_leverage_and_three_over_n_on_equal_steps() {
+    // Equal steps: X'X = diag(n, n/2, n/2), so x' (X'X)^-1 x = 3 / n at any angle.
+    let n = 12;
+    let obs: Vec<Obs<f64>> = (0..n)
+        .map(|k| Obs::new(k as f64 * 30.0, (k as f64 * 0.5).cos()))
+        .collect();
+    let fit = AzimuthFit::fit_all(FitConfig::default(), &obs).unwrap();
+    for gamma in [0.0, 17.0, 200.0] {
+        assert!((fit.prediction_variance_unit(gamma, 0.0) - 0.25).abs() < 1e-12);
+    }
+    // At a fitted row it is the leverage: how far the fitted value follows the row's rate.
+    let mut rng = Rng::new(9);
+    let (_, obs) = run(&mut rng, 15, 0.01, false);
+    let cfg = FitConfig {
+        drift: Drift::Quadratic,
+        harmonics: 2,
+        ..FitConfig::default()
+    };
+    let base = AzimuthFit::fit_all(cfg, &obs).unwrap();
+    for (i, o) in obs.iter().enumerate() {
+        let mut up = obs.clone();
+        up[i].rate_dph += 1e-3;
+        let moved = AzimuthFit::fit_all(cfg, &up).unwrap().predict(o.gamma_deg, o.t_s, None);
+        let num = (moved - base.predict(o.gamma_deg, o.t_s, None)) / 1e-3;
+        let ana = base.prediction_variance_unit(o.gamma_deg, o.t_s);
+        assert!(
+            (num - ana).abs() < 1e-8 && (0.0..=1.0).contains(&ana),
+            "{i}: {num} vs {ana}"
+        );
+    }
+}
+
+#[test]
 fn drift_harmonics_and_predict() {
     let inst = Instrument::level(43.8, 120.0);
     let (k1, k2) = (2e-4, -3e-7);

@@ -204,7 +204,10 @@ fn plain_holding_out(rec: &Recording, method: TiltMethod, cfg: FitConfig<f64>) -
             })
             .collect();
         let residuals: Vec<f64> = points.iter().map(|p| p[4]).collect();
-        let found = far_off::find(&residuals, &kept);
+        let mut found = far_off::find(&residuals, &kept);
+        found.extend(studentised_wild(cfg, rec, &tilt.corrections, &kept, &fit, &residuals));
+        found.sort_unstable();
+        found.dedup();
         let hold = far_off::to_hold(&found, rec.rows.len(), cfg.terms().unwrap_or(usize::MAX));
         pass += 1;
         if hold == out || pass == far_off::PASSES {
@@ -219,6 +222,43 @@ fn plain_holding_out(rec: &Recording, method: TiltMethod, cfg: FitConfig<f64>) -
         }
         out = hold;
     }
+}
+
+/// The rows far off by their externally studentised residual ([`far_off::studentised_wild`]):
+/// those left out of `fit`, the fit of the rows `kept`, against it; and the largest residual
+/// of those kept against the fit of the others.
+fn studentised_wild(
+    cfg: FitConfig<f64>,
+    rec: &Recording,
+    corr: &[f64],
+    kept: &[usize],
+    fit: &FitResult<f64>,
+    residuals: &[f64],
+) -> Vec<usize> {
+    let n = rec.rows.len();
+    let wild = |f: &FitResult<f64>, i: usize, residual: f64| {
+        let s = (f.rss / f.dof as f64).sqrt();
+        let r = &rec.rows[i];
+        far_off::studentised_wild(residual, s, f.prediction_variance_unit(r.encoder_deg, r.t_s), f.dof, n)
+    };
+    let mut fitted = vec![false; n];
+    kept.iter().for_each(|&i| fitted[i] = true);
+    let mut found: Vec<usize> = (0..n).filter(|&i| !fitted[i] && wild(fit, i, residuals[i])).collect();
+    let largest = kept
+        .iter()
+        .copied()
+        .max_by(|a, b| residuals[*a].abs().total_cmp(&residuals[*b].abs()));
+    if let Some(c) = largest {
+        let others: Vec<usize> = kept.iter().copied().filter(|&i| i != c).collect();
+        // Without it the positions may not determine the fit: then it is not judged so.
+        if let Ok(f) = plain(cfg, rec, corr, &others) {
+            let r = &rec.rows[c];
+            if wild(&f, c, r.rate_dph - corr[c] - f.predict(r.encoder_deg, r.t_s, None)) {
+                found.push(c);
+            }
+        }
+    }
+    found
 }
 
 /// Least squares on the rows `kept`, less their corrections; an error names its line.

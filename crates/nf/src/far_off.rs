@@ -8,6 +8,11 @@ use crate::stats;
 /// Far enough that no Gaussian dwell of a run of a million gets there (p 1e-15 each).
 pub const WILD_SIGMAS: f64 = 8.0;
 
+/// A run of Gaussian dwells holds a dwell this far off its fit, by the Student-t of the fit's
+/// degrees of freedom, once in a million runs: where the fit's sigma is poorly known (a run of
+/// a dozen dwells), a dwell must lie further than [`WILD_SIGMAS`] to be called far off.
+pub const WILD_RUN_P: f64 = 1e-6;
+
 /// Fits and searches at most: a large glitch drags the fit and hides a smaller one, which the
 /// fit without it shows.
 pub const PASSES: usize = 3;
@@ -45,11 +50,29 @@ pub fn find(residuals: &[f64], kept: &[usize]) -> Vec<usize> {
         .collect()
 }
 
+/// A row the fit left out, `residual` off it, in a run of `n` rows: far off when it lies
+/// [`WILD_SIGMAS`] or more of its own sigma from the fit and the Student-t of the fit's `dof`
+/// gives such a value in fewer than [`WILD_RUN_P`] of runs. Its sigma is `s sqrt(1 + v)`: `s`
+/// the fit's residual sigma, `v` the fitted value's variance per unit (an externally
+/// studentised residual). In a short run one glitch drags the fit of all rows so far that no
+/// residual of it stands out; against the fit of the others it does.
+pub fn studentised_wild(residual: f64, s: f64, v: f64, dof: u32, n: usize) -> bool {
+    if dof == 0 || residual == 0.0 {
+        return false;
+    }
+    if s <= 0.0 {
+        return true;
+    }
+    let t = residual.abs() / (s * (1.0 + v).sqrt());
+    t >= WILD_SIGMAS && stats::t_sf2(t, dof as f64) * n as f64 <= WILD_RUN_P
+}
+
 /// The rows to hold out of a run of `n` fitted with `terms` unknowns: those found, unless they
-/// are more than a tenth of the run (then they are the data: a model the fit lacks, a tilt
-/// left uncorrected, heavy tails; not glitches) or the rest would leave no degree of freedom.
+/// are more than one and more than a tenth of the run (then they are the data: a model the
+/// fit lacks, a tilt left uncorrected, heavy tails; not glitches) or the rest would leave no
+/// degree of freedom.
 pub fn to_hold(found: &[usize], n: usize, terms: usize) -> Vec<usize> {
-    if found.len() * 10 > n || n - found.len() <= terms {
+    if (found.len() > 1 && found.len() * 10 > n) || n - found.len() <= terms {
         Vec::new()
     } else {
         found.to_vec()
@@ -115,10 +138,30 @@ mod tests {
     }
 
     #[test]
+    fn a_left_out_row_must_be_further_off_where_the_fit_has_few_degrees_of_freedom() {
+        // 22 s, 19.7 of its own sigma: far off with 8 dof (the bar is 18.3 in a run of 12),
+        // not with 4 (83 in a run of 8); 8 is the floor however many.
+        assert!(studentised_wild(22.0, 1.0, 0.25, 8, 12));
+        assert!(!studentised_wild(20.0, 1.0, 0.25, 8, 12));
+        assert!(!studentised_wild(22.0, 1.0, 0.25, 4, 8));
+        assert!(studentised_wild(-100.0, 1.0, 0.25, 4, 8));
+        assert!(!studentised_wild(7.9, 1.0, 0.0, 100_000, 100_004));
+        assert!(studentised_wild(8.1, 1.0, 0.0, 100_000, 100_004));
+        // Its own sigma counts the fitted value's: 9 of s is 7.8 of sqrt(1 + 1/3) s.
+        assert!(!studentised_wild(9.0, 1.0, 1.0 / 3.0, 100_000, 100_004));
+        // A fit that is exact calls any other value far off; no dof, none.
+        assert!(studentised_wild(1e-9, 0.0, 0.25, 5, 9));
+        assert!(!studentised_wild(5.0, 1.0, 0.25, 0, 4));
+    }
+
+    #[test]
     fn more_than_a_tenth_far_off_are_the_data_and_none_is_held_out() {
         assert_eq!(to_hold(&[3, 9], 20, 3), vec![3, 9]);
         assert_eq!(to_hold(&[1, 2, 3], 20, 3), Vec::<usize>::new());
         assert_eq!(to_hold(&[], 20, 3), Vec::<usize>::new());
+        // One glitch in a run of eight is still a glitch.
+        assert_eq!(to_hold(&[5], 8, 3), vec![5]);
+        assert_eq!(to_hold(&[2, 5], 8, 3), Vec::<usize>::new());
     }
 
     #[test]
