@@ -9,6 +9,7 @@
 use crate::analysis::{TiltMethod, exact_tilt_correction};
 use crate::linfit;
 use crate::recording::Recording;
+use crate::stats::f_sf;
 use crate::tilt_sense::{self, AxisReading};
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
@@ -42,6 +43,16 @@ pub struct Tilt {
     pub sigma_psi_deg: f64,
     /// How the fit's errors carry through the correction's dependence on the fit.
     pub sensitivity: Sensitivity,
+    /// Whether the tilt stands out of the readings' scatter, when there is a circle.
+    pub circle_test: Option<CircleTest>,
+}
+
+/// The tilt against none: the F test of the circle's first harmonic `(a, b)`, which both axes
+/// draw (one tilt, two parameters), against constant readings; and the tilt's sigma.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CircleTest {
+    pub p: f64,
+    pub sigma_tilt_deg: f64,
 }
 
 /// How a change of the fitted azimuth and amplitude (deg, deg/h) carries into the result of
@@ -84,9 +95,36 @@ struct Circle {
     b: f64,
     /// Covariance of `a` and `b`, from the readings' scatter about the circle.
     cov: [[f64; 2]; 2],
+    /// Degrees of freedom of that scatter.
+    dof: usize,
 }
 
 impl Circle {
+    fn test(&self) -> CircleTest {
+        let [[caa, cab], [_, cbb]] = self.cov;
+        let det = caa * cbb - cab * cab;
+        let r = self.a.hypot(self.b);
+        let p = if self.dof == 0 {
+            1.0
+        } else if det > 0.0 {
+            // Wald's quadratic form of (a, b) over 2: an F of 2 and the scatter's dof.
+            let w = (self.a * self.a * cbb - 2.0 * self.a * self.b * cab + self.b * self.b * caa) / det;
+            f_sf(0.5 * w, 2.0, self.dof as f64)
+        } else if r > 0.0 {
+            // Readings on the circle exactly.
+            0.0
+        } else {
+            1.0
+        };
+        // tilt = asin(r): its sigma along (a, b), by the delta method.
+        let (ua, ub) = if r > 0.0 { (self.a / r, self.b / r) } else { (1.0, 0.0) };
+        let var_r = ua * ua * caa + 2.0 * ua * ub * cab + ub * ub * cbb;
+        CircleTest {
+            p,
+            sigma_tilt_deg: (var_r.max(0.0).sqrt() / (1.0 - r * r).max(1e-12).sqrt()).to_degrees(),
+        }
+    }
+
     /// The tilt with the first harmonic moved by `(da, db)`.
     fn moved(&self, da: f64, db: f64) -> ShaftTilt<f64> {
         ShaftTilt::from_circle(self.cx, self.cy, self.a + da, self.b + db, self.shaft.rms_deg)
@@ -167,6 +205,7 @@ fn circle(rec: &Recording) -> Result<(Circle, Option<String>), String> {
         a,
         b,
         cov,
+        dof: ls.dof,
     };
     Ok((circle, warning))
 }
@@ -190,16 +229,19 @@ pub fn correct(
         warning: None,
         sigma_psi_deg: 0.0,
         sensitivity: Sensitivity::NONE,
+        circle_test: None,
     };
     match method {
         TiltMethod::None => Ok(none),
         TiltMethod::FirstOrder => {
             let (x, bridged) = bridged_x(rec)?;
+            // Measured, not used: so the output can say how large a tilt first order took.
+            let c = circle(rec).ok().map(|c| c.0);
             Ok(Tilt {
                 corrections: x.iter().map(|&x| vertical_earth_rate_dph(lat, x)).collect(),
                 bridged,
-                // Measured, not used: so the output can say how large a tilt first order took.
-                shaft: circle(rec).ok().map(|c| c.0.shaft),
+                shaft: c.as_ref().map(|c| c.shaft),
+                circle_test: c.as_ref().map(Circle::test),
                 ..none
             })
         }
@@ -218,6 +260,7 @@ pub fn correct(
                 warning,
                 sigma_psi_deg,
                 sensitivity: s.sensitivity,
+                circle_test: Some(c.test()),
                 ..none
             })
         }
@@ -417,5 +460,47 @@ mod tests {
             "{psi} {amp}"
         );
         assert!(carried([[0.0, 0.0], [0.0, 0.0]]).0[0][0].is_infinite());
+    }
+
+    /// A sweep of 36 positions whose inclinometer reads a tilt of `tilt_deg` toward 40 deg,
+    /// mounting offsets, and noise of 0.001 deg on both axes.
+    fn readings_of(tilt_deg: f64, rng: &mut nf_model::rng::Rng) -> Recording {
+        let mut text = String::from("# format = northfinder-recording/1\n# latitude_deg = 45\n");
+        text.push_str("index,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg\n");
+        for k in 0..36 {
+            let g = k as f64 * 10.0;
+            // The axis at gamma dips by the tilt's component along it (tilt direction 40 deg).
+            let x = 0.02 - tilt_deg * (g - 40.0).to_radians().cos() + 0.001 * rng.gauss();
+            let y = -0.01 + tilt_deg * (g - 40.0).to_radians().sin() + 0.001 * rng.gauss();
+            text.push_str(&format!("{k},{},{g},{},{x},{y}\n", 2 * k, 10.0 * g.to_radians().cos()));
+        }
+        Recording::parse(&text).unwrap()
+    }
+
+    #[test]
+    fn the_tilt_test_agrees_with_the_tilt_and_its_sigma() {
+        // Without a tilt, (a, b) is a 2-d normal: its size over its sigma is Rayleigh, so the
+        // p-value is close to exp(-z^2 / 2), and below 0.05 in one run of 20.
+        let mut rng = nf_model::rng::Rng::new(3);
+        let runs = 400;
+        let mut below = 0;
+        for _ in 0..runs {
+            let (c, _) = circle(&readings_of(0.0, &mut rng)).unwrap();
+            let t = c.test();
+            let z = c.shaft.tilt_deg / t.sigma_tilt_deg;
+            assert!((t.p - (-0.5 * z * z).exp()).abs() < 0.02, "p {} z {z}", t.p);
+            below += usize::from(t.p < 0.05);
+        }
+        assert!((10..=30).contains(&below), "{below} of {runs}");
+        // A reading's noise of tilt stands out of 72 readings; its sigma holds.
+        let (c, _) = circle(&readings_of(0.001, &mut rng)).unwrap();
+        let t = c.test();
+        assert!(t.p < 1e-3, "{t:?}");
+        assert!(
+            (c.shaft.tilt_deg - 0.001).abs() < 3.0 * t.sigma_tilt_deg,
+            "{} {t:?}",
+            c.shaft.tilt_deg
+        );
+        assert!((t.sigma_tilt_deg / (0.001 / 36f64.sqrt()) - 1.0).abs() < 0.3, "{t:?}");
     }
 }
