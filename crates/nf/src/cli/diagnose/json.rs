@@ -63,7 +63,9 @@ struct UndecidedJson<'a> {
 struct SummaryJson {
     /// Azimuth psi, deg.
     azimuth_deg: Option<f64>,
-    /// Whitened residual sum of squares (dimensionless).
+    /// Residual sum of squares of the fit on the whitened rates: (deg/h)^2 where the noise is
+    /// white, dimensionless (about its degrees of freedom) under a coloured model. It compares
+    /// the fits of one recording, not two recordings or `nf fit`'s `rss`.
     rss: f64,
     /// 1-sigma uncertainty of psi, arcsec.
     sigma_arcsec: f64,
