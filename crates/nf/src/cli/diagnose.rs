@@ -126,7 +126,11 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
                 alpha: a.alpha,
                 diagnose: opt.clone(),
             };
-            Some(sim_compare::against(&rec, &d, f, &so).map_err(|e| Fail(format!("{path}: {e}"), 1))?)
+            let s = sim_compare::against(&rec, &d, f, &so).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
+            for w in &s.warnings {
+                super::note!("nf: warning: {w}");
+            }
+            Some(s)
         }
         None => None,
     };

@@ -25,6 +25,8 @@ pub struct SimJson<'a> {
     positions_after: WhereJson,
     /// Where it departs from the replays of the file as given.
     positions_before: WhereJson,
+    /// What to know before reading the comparison (a file made for another latitude).
+    warnings: &'a [String],
 }
 
 /// Where the recording departs from the replays, position by position.
@@ -181,6 +183,7 @@ pub fn json(s: &SimReport) -> SimJson<'_> {
             .collect(),
         positions_after: where_json(&s.fixed.places),
         positions_before: where_json(&s.places),
+        warnings: &s.warnings,
     }
 }
 
@@ -190,6 +193,9 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
         "\nagainst the simulation (replayed under the recording's plan, dwell {:.3} s):",
         s.dwell_s
     )?;
+    for w in &s.warnings {
+        writeln!(out, "  warning: {w}")?;
+    }
     let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict.needs_change()).collect();
     if lacking.is_empty() {
         let still = match s.before.mismatches() {

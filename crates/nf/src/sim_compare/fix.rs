@@ -279,10 +279,9 @@ pub fn effects(
     (f, notes)
 }
 
-/// Where `cmp` (of replays of `file` with the effects put in) still finds them apart: the
-/// noise model replaced by the recording's, and the Eq. 7 numbers, the inclinometer's offset
-/// and the temperature moved onto the recording's.
-pub fn moments(
+/// `file` with its noise model replaced by the recording's (or its white level scaled) where
+/// `cmp`, of replays of `file` with the effects put in, finds the noise apart.
+pub fn noise(
     file: &InstrumentFile,
     cmp: &Comparison,
     physics: &[Physics],
@@ -322,6 +321,17 @@ pub fn moments(
             notes.push(n);
         }
     }
+    (f, notes)
+}
+
+/// `file` with the Eq. 7 numbers (bias, amplitude, azimuth) and the inclinometer's offset moved
+/// onto the recording's where `cmp`, the comparison with replays of `file` under its final
+/// noise, still finds them apart: a coloured noise the fix put in widens their spread, and
+/// one run's wander is no reason to move the site.
+pub fn moments(file: &InstrumentFile, cmp: &Comparison) -> (InstrumentFile, Vec<String>) {
+    let mut f = file.clone();
+    let mut notes = Vec::new();
+    let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
     if let Some((r, s)) = off(Quantity::Bias) {
         f.gyro.bias_dph = (f.gyro.bias_dph + r - s).clamp(-50.0, 50.0);
         notes.push(format!("bias: moved by {:+.5} deg/h", r - s));

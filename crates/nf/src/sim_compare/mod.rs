@@ -79,6 +79,8 @@ pub struct Fixed {
 
 #[derive(Debug, Clone)]
 pub struct SimReport {
+    /// What the user should know before reading the comparison.
+    pub warnings: Vec<String>,
     pub dwell_s: f64,
     pub physics: Vec<Physics>,
     pub before: Comparison,
@@ -143,22 +145,25 @@ struct Target<'a> {
 }
 
 impl Target<'_> {
-    /// `file` with what `physics` says put in, then moved onto the recording's numbers where
-    /// its replays still differ, and its replays against the recording.
+    /// `file` with what `physics` says put in, its noise replaced where the replays' noise
+    /// differs, then moved onto the recording's numbers where the replays under that noise
+    /// still differ; and its replays against the recording.
     fn fix(&self, file: &InstrumentFile, physics: &[Physics]) -> Fixed {
         let (rec, opt) = (self.rec, self.opt);
+        let compared = |f: &InstrumentFile| {
+            let sims = replays(f, rec, opt.replays, run_origin_s(f));
+            compare::compare(self.mine, &sims.profiles, opt.alpha)
+        };
         let (f1, mut changes) = fix::effects(file, physics, rec, self.dwell_s, self.origin_s);
-        let sims1 = replays(&f1, rec, opt.replays, run_origin_s(&f1));
-        let (f2, moved) = fix::moments(
-            &f1,
-            &compare::compare(self.mine, &sims1.profiles, opt.alpha),
-            physics,
-            self.diag,
-        );
+        let cmp1 = compared(&f1);
+        let (f2, noise) = fix::noise(&f1, &cmp1, physics, self.diag);
+        let cmp2 = if noise.is_empty() { cmp1 } else { compared(&f2) };
+        changes.extend(noise);
+        let (f3, moved) = fix::moments(&f2, &cmp2);
         changes.extend(moved);
-        let sims2 = replays(&f2, rec, opt.replays, run_origin_s(&f2));
+        let sims2 = replays(&f3, rec, opt.replays, run_origin_s(&f3));
         Fixed {
-            file: f2,
+            file: f3,
             changes,
             after: compare::compare(self.mine, &sims2.profiles, opt.alpha),
             places: positions::departures(rec, self.recording, &sims2.residuals, opt.alpha),
@@ -175,6 +180,19 @@ fn names_of_effects(physics: &[Physics]) -> String {
         .map(|p| p.kind.name())
         .collect();
     names.join(", ")
+}
+
+/// A file made for another site than the recording's: the replays run at the file's latitude,
+/// so the amplitude and all the Earth rate sets differ whatever the physics.
+fn warnings(rec: &Recording, file: &InstrumentFile) -> Vec<String> {
+    let (mine, theirs) = (rec.latitude_deg, file.site.latitude_deg);
+    if (mine - theirs).abs() > 1e-6 {
+        vec![format!(
+            "the instrument file's latitude ({theirs} deg) is not the recording's ({mine} deg): the replays run at the file's, so the amplitude and everything the Earth rate sets differ from the recording's whatever the physics (--fix takes the recording's)"
+        )]
+    } else {
+        Vec::new()
+    }
 }
 
 /// Compares `rec` (diagnosed as `diag`) with the simulation `file`.
@@ -213,6 +231,7 @@ pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &O
         }
     }
     Ok(SimReport {
+        warnings: warnings(rec, file),
         dwell_s,
         physics,
         before,
