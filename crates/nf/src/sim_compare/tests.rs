@@ -44,3 +44,32 @@ fn the_plan_is_read_back_from_the_recording() {
     off.rows[2].encoder_deg += 7.0;
     assert_eq!(plan::infer(&off), None);
 }
+
+#[test]
+fn a_burst_within_one_dwell_is_not_the_quarters_white_level() {
+    let quarter_sd = |rec: &Recording| {
+        let p = profile(rec).unwrap();
+        p.iter().find(|q| q.0 == Quantity::QuarterSd).unwrap().1
+    };
+    let mut rec = simulated(&InstrumentFile::default());
+    let clean = quarter_sd(&rec);
+    // A burst over three quarters of one dwell, 8 quarter sigmas: that dwell's quarters
+    // scatter 4 times as far, and the pooled scatter of the 72 dwells would grow by 10 %.
+    let q = rec.rows[30].quarters_dph.as_mut().unwrap();
+    for v in &mut q[..3] {
+        *v += 8.0 * clean;
+    }
+    let burst = quarter_sd(&rec);
+    assert!((burst / clean - 1.0).abs() < 0.01, "{clean} -> {burst}");
+    // A white level 10 % higher moves it as much.
+    for r in &mut rec.rows {
+        let q = r.quarters_dph.as_mut().unwrap();
+        let m = q.iter().sum::<f64>() / 4.0;
+        q.iter_mut().for_each(|v| *v = m + 1.1 * (*v - m));
+    }
+    assert!(
+        (quarter_sd(&rec) / clean - 1.1).abs() < 0.01,
+        "{}",
+        quarter_sd(&rec) / clean
+    );
+}
