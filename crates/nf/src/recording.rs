@@ -128,7 +128,10 @@ impl Recording {
                 _ => {
                     return err(
                         at,
-                        format!("latitude_deg '{v}' is not a latitude in degrees (-90 to 90)"),
+                        format!(
+                            "latitude_deg '{}' is not a latitude in degrees (-90 to 90)",
+                            v.escape_debug()
+                        ),
                     );
                 }
             },
@@ -154,7 +157,10 @@ impl Recording {
             if index < 0.0 || index.fract() != 0.0 || index > u32::MAX as f64 {
                 return err(
                     n,
-                    format!("index '{}' is not a whole number from 0", &cells[col("index")]),
+                    format!(
+                        "index '{}' is not a whole number from 0",
+                        cells[col("index")].escape_debug()
+                    ),
                 );
             }
             let hash = cells_hash(&cells);

@@ -180,7 +180,7 @@ impl<'a> Head<'a> {
                 Ok(x) if x.is_finite() && x > 0.0 => Ok(Some(x)),
                 _ => err(
                     self.meta_line(key),
-                    format!("{key} '{v}' is not a positive number of {unit}"),
+                    format!("{key} '{}' is not a positive number of {unit}", v.escape_debug()),
                 ),
             },
         }
@@ -353,7 +353,7 @@ pub fn number(line: usize, name: &str, v: &str) -> Result<f64, Error> {
     match v.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
         _ if v.is_empty() => err(line, format!("{name} is empty")),
-        _ => err(line, format!("{name} '{v}' is not a finite number")),
+        _ => err(line, format!("{name} '{}' is not a finite number", v.escape_debug())),
     }
 }
 
@@ -374,7 +374,8 @@ pub fn optional(line: usize, name: &str, v: &str) -> Result<Option<f64>, Error> 
         Ok(x) if x.is_finite() => Ok(Some(x)),
         // An infinity is no "no value": the writer measured something off the scale.
         Ok(_) => err(line, format!("{name} '{v}' is not a finite number")),
-        _ => err(line, format!("{name} '{v}' is not a number")),
+        // A corrupt cell may hold control characters: shown escaped, not sent to the terminal.
+        _ => err(line, format!("{name} '{}' is not a number", v.escape_debug())),
     }
 }
 
@@ -455,6 +456,15 @@ mod tests {
         assert_eq!(
             optional(4, "temp_c", "-inf").unwrap_err().to_string(),
             "line 4: temp_c '-inf' is not a finite number"
+        );
+        // A corrupt cell's control characters are shown escaped, not sent to the terminal.
+        assert_eq!(
+            number(5, "rate_dph", "1\u{0}\u{1b}[31m").unwrap_err().to_string(),
+            "line 5: rate_dph '1\\0\\u{1b}[31m' is not a finite number"
+        );
+        assert_eq!(
+            optional(6, "temp_c", "\u{7}").unwrap_err().to_string(),
+            "line 6: temp_c '\\u{7}' is not a number"
         );
         assert_eq!(
             Error {
