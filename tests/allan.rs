@@ -392,6 +392,56 @@ fn a_spike_is_left_out_and_named_by_its_line() {
     assert!(notes.contains("kept (--keep-spikes)"), "{notes}");
 }
 
+#[test]
+fn lost_samples_cost_only_themselves_and_a_long_gap_stays_a_gap() {
+    let truth = NoiseModel {
+        arw_deg_rth: 0.002,
+        rrw_dph_rth: 0.05,
+        ..NoiseModel::WHITE_NONE
+    };
+    let mut text = Vec::new();
+    twin_log(truth, 10.0, 2.0, 8).write(&mut text).unwrap();
+    let text = String::from_utf8(text).unwrap();
+    let (head, rows): (Vec<&str>, Vec<&str>) = text.lines().partition(|l| l.starts_with('#') || l.starts_with('t'));
+    let run = |name: &str, rows: &[&str]| {
+        let log = tmp(name);
+        std::fs::write(&log, format!("{}\n{}\n", head.join("\n"), rows.join("\n"))).unwrap();
+        let (code, out, err) = nf(&["allan", &log, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let whole = run("whole.csv", &rows);
+    // Half a percent of the samples lost, one at a time: before, each split the log, and the
+    // averaging times ended at a quarter of the whole log's.
+    let mut rng = nf_twin::Rng::new(3);
+    let lossy: Vec<&str> = rows
+        .iter()
+        .copied()
+        .filter(|_| rng.uniform(0.0, 1.0) >= 0.005)
+        .collect();
+    let lost = run("lossy.csv", &lossy);
+    let taus = |j: &serde_json::Value| j["curve"].as_array().unwrap().len();
+    assert_eq!(taus(&lost), taus(&whole));
+    assert_eq!(lost["source"]["segments"], 1);
+    assert!(
+        lost["source"]["notes"]
+            .to_string()
+            .contains("lost samples (or spikes left out) bridged")
+    );
+    for term in ["arw_deg_rth", "rrw_dph_rth"] {
+        let (a, b) = (lost[term].as_f64().unwrap(), whole[term].as_f64().unwrap());
+        assert!((a / b - 1.0).abs() < 0.05, "{term}: {a} against {b}");
+    }
+    // A minute lost is a gap: the log is two segments.
+    let cut: Vec<&str> = rows
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !(30_000..30_600).contains(i))
+        .map(|(_, r)| *r)
+        .collect();
+    assert_eq!(run("cut.csv", &cut)["source"]["segments"], 2);
+}
+
 /// Exit code 2, nothing on stdout, and the message names the place.
 fn refused(args: &[&str], place: &str, what: &str) {
     let (code, out, err) = nf(args);

@@ -6,6 +6,7 @@
 use crate::allan::{MIN_CLUSTERS, MIN_POINTS, octaves};
 use crate::allan_model::Sampling;
 use crate::allan_removed::Removed;
+use crate::gap_bridge;
 use crate::linfit;
 use crate::noise_fit::dwell_of;
 use crate::recording::{self, Recording};
@@ -130,7 +131,7 @@ fn gap_notes(spacing: &Spacing, notes: &mut Vec<String>) {
             spacing.gaps.len() - GAPS_LISTED
         ));
     }
-    if !spacing.gaps.is_empty() {
+    if spacing.segments.len() > 1 {
         notes.push(format!(
             "the log is split into {} contiguous segments: the Allan variance pools their second differences, none spans a gap",
             spacing.segments.len()
@@ -142,7 +143,6 @@ fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> S
     let mut notes = Vec::new();
     let meta_rate = log.meta.get("sample_rate_hz").and_then(|v| v.parse().ok());
     let step = step_of(&log.spacing, meta_rate, override_hz, &mut notes);
-    gap_notes(&log.spacing, &mut notes);
     if let Some((lo, hi)) = log.temp_span_c {
         notes.push(format!("temp_c from {lo} to {hi} C"));
     }
@@ -155,9 +155,21 @@ fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> S
     if !keep_spikes {
         spacing.segments = spikes::split(&spacing.segments, &found);
     }
+    let bridged = gap_bridge::bridge(&log.rate_dph, &log.t_s, &spacing.segments, spacing.step_s);
+    if bridged.gaps > 0 {
+        notes.push(format!(
+            "{} gaps of at most {} lost samples (or spikes left out) bridged: {} samples ({:.3} % of the log) filled with the mean of the samples around each, so the averaging times run as long as the whole log allows",
+            bridged.gaps,
+            gap_bridge::MAX_LOST,
+            bridged.filled,
+            100.0 * bridged.filled as f64 / bridged.rates.len() as f64
+        ));
+    }
+    spacing.segments = bridged.segments;
+    gap_notes(&spacing, &mut notes);
     Source {
         kind: Kind::StaticLog,
-        rates: log.rate_dph,
+        rates: bridged.rates,
         spacing,
         sampling: Sampling::contiguous(step),
         removed: None,
@@ -185,7 +197,7 @@ fn spike_notes(found: &[spikes::Spike], log: &StaticLog, kept: bool, notes: &mut
             format!("the {} spikes are kept (--keep-spikes)", found.len())
         } else {
             format!(
-                "the {} spikes (beyond {} robust sigmas: no gyro noise) are left out, the log split at each; --keep-spikes keeps them",
+                "the {} spikes (beyond {} robust sigmas: no gyro noise) are left out as lost samples are; --keep-spikes keeps them",
                 found.len(),
                 spikes::SIGMAS
             )

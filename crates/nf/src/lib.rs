@@ -10,6 +10,7 @@ pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;
 pub mod far_off;
+pub mod gap_bridge;
 pub mod gls;
 pub mod instrument_file;
 pub(crate) mod linfit;
