@@ -317,6 +317,15 @@ fn cli_json_plot_and_the_noise_file_round_trip() {
     // The noise file, and the JSON itself, read back as the same model.
     let fitted = nf::noise_file::read(&noise).unwrap();
     assert_eq!(fitted.arw_deg_rth, j["arw_deg_rth"].as_f64().unwrap());
+    // Each term's interval is in its comments, and the averaging times it was measured at.
+    let file = std::fs::read_to_string(&noise).unwrap();
+    for said in [
+        "# N (angle random walk): ",
+        "# B (bias instability): ",
+        "# measured at averaging times ",
+    ] {
+        assert!(file.contains(said), "{said}: {file}");
+    }
     let json_file = tmp("allan.json");
     std::fs::write(&json_file, &out).unwrap();
     assert_eq!(nf::noise_file::read(&json_file).unwrap(), fitted);

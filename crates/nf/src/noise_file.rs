@@ -31,11 +31,14 @@ fn field<'a>(m: &'a mut NoiseModel, key: &str) -> Option<&'a mut f64> {
     })
 }
 
-/// The file for `model`, with `comment` (one line) at the top.
-pub fn write(model: &NoiseModel, comment: &str) -> String {
+/// The file for `model`, with `comments` (a line each) at the top.
+pub fn write(model: &NoiseModel, comments: &[String]) -> String {
     let mut m = *model;
     let mut out =
-        format!("# gyro noise model, IEEE Std 952 units (deg/sqrt(h), deg/h, deg/h/sqrt(h), s, arcsec)\n# {comment}\n");
+        String::from("# gyro noise model, IEEE Std 952 units (deg/sqrt(h), deg/h, deg/h/sqrt(h), s, arcsec)\n");
+    for c in comments {
+        out += &format!("# {}\n", c.replace('\n', " "));
+    }
     for key in KEYS {
         // `{}` is the shortest text that reads back to the same f64.
         let v = field(&mut m, key).map_or(0.0, |v| *v);
@@ -170,7 +173,8 @@ mod tests {
 
     #[test]
     fn write_then_read_is_the_same_model() {
-        let text = write(&model(), "from a test");
+        let text = write(&model(), &["from a test".into(), "two\nlines".into()]);
+        assert!(text.contains("# from a test\n# two lines\n"));
         assert_eq!(parse(&text), Ok(model()));
         assert!(text.contains("rrw_dph_rth = 0.3333333333333333\n"));
         // Keys in any order, comments, missing keys zero.

@@ -110,7 +110,21 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
                 g(r.value)
             );
         }
-        std::fs::write(path, noise_file::write(&fit.model, &comment))
+        // Each term's interval beside it: a reader of the file sees which are only bounds.
+        let mut comments = vec![comment];
+        comments.extend(
+            TERMS
+                .iter()
+                .filter(|t| t.0 != Term::Ramp)
+                .map(|(term, label, unit)| format!("{label}: {}", term_text(&fit, *term, unit))),
+        );
+        let tau = |p: Option<&Point>| p.map_or(f64::NAN, |p| p.tau_s);
+        comments.push(format!(
+            "measured at averaging times {} to {} s; nf fit, nf diagnose and nf plan take the values below as known: a term not significant above is a best estimate within its bound, not a measurement",
+            g(tau(points.first())),
+            g(tau(points.last()))
+        ));
+        std::fs::write(path, noise_file::write(&fit.model, &comments))
             .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
     }
     if let Some(report) = &a.report {
@@ -150,6 +164,29 @@ const TERMS: [(Term, &str, &str); 5] = [
     (Term::Quantization, "Q (quantisation)", "arcsec"),
     (Term::Ramp, "R (rate ramp, a trend)", "deg/h/h"),
 ];
+
+/// A term's value and 68 % interval as the text and the noise file's comments give it.
+fn term_text(fit: &AllanFit, term: Term, unit: &str) -> String {
+    match fit.param(term) {
+        // The sigma maps the variance coefficient's up through the square root: a size some
+        // sigmas from zero can be a coefficient within noise of zero.
+        Some(p) if p.value > 0.0 && p.consistent_with_zero(2.0) => format!(
+            "{} +{} -{} {unit} (not significant: its Allan variance coefficient is {:.1} sd from zero)",
+            g(p.value),
+            g(p.sigma),
+            g(p.value - p.lo),
+            p.coef / p.coef_sd
+        ),
+        Some(p) if p.value > 0.0 => format!("{} +{} -{} {unit}", g(p.value), g(p.sigma), g(p.value - p.lo)),
+        Some(p) => format!("0 (1-sigma bound {} {unit})", g(p.sigma)),
+        None => match (term, fit.q_test, fit.ramp_test) {
+            (Term::Quantization, Some(t), _) | (Term::Ramp, _, Some(t)) => {
+                format!("not significant (F test p = {}, kept below {ALPHA})", g(t.p_value))
+            }
+            _ => "not fitted".into(),
+        },
+    }
+}
 
 fn describe_source(file: &str, src: &Source) -> String {
     let n = src.rates.len();
@@ -211,26 +248,7 @@ impl Report<'_> {
             );
         }
         for (term, label, unit) in TERMS {
-            let line = match fit.param(term) {
-                // The sigma maps the variance coefficient's up through the square root: a
-                // size some sigmas from zero can be a coefficient within noise of zero.
-                Some(p) if p.value > 0.0 && p.consistent_with_zero(2.0) => format!(
-                    "{} +{} -{} {unit} (not significant: its Allan variance coefficient is {:.1} sd from zero)",
-                    g(p.value),
-                    g(p.sigma),
-                    g(p.value - p.lo),
-                    p.coef / p.coef_sd
-                ),
-                Some(p) if p.value > 0.0 => format!("{} +{} -{} {unit}", g(p.value), g(p.sigma), g(p.value - p.lo)),
-                Some(p) => format!("0 (1-sigma bound {} {unit})", g(p.sigma)),
-                None => match (term, fit.q_test, fit.ramp_test) {
-                    (Term::Quantization, Some(t), _) | (Term::Ramp, _, Some(t)) => {
-                        format!("not significant (F test p = {}, kept below {ALPHA})", g(t.p_value))
-                    }
-                    _ => "not fitted".into(),
-                },
-            };
-            out += &format!("{label:<26} {line}\n");
+            out += &format!("{label:<26} {}\n", term_text(fit, term, unit));
         }
         let gm = match (fit.gm(), fit.gm_test) {
             (Some((s, tau)), _) => format!(
