@@ -451,6 +451,36 @@ fn lost_samples_cost_only_themselves_and_a_long_gap_stays_a_gap() {
     assert_eq!(run("cut.csv", &cut)["source"]["segments"], 2);
 }
 
+#[test]
+fn a_log_in_deg_per_s_gets_a_hint() {
+    let truth = NoiseModel {
+        arw_deg_rth: 0.002,
+        ..NoiseModel::WHITE_NONE
+    };
+    let mut text = Vec::new();
+    twin_log(truth, 10.0, 0.5, 4).write(&mut text).unwrap();
+    let notes = |text: &str, name: &str| {
+        let log = tmp(name);
+        std::fs::write(&log, text).unwrap();
+        let (code, out, err) = nf(&["allan", &log, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()["source"]["notes"].to_string()
+    };
+    let text = String::from_utf8(text).unwrap();
+    assert!(!notes(&text, "dph.csv").contains("deg/s"));
+    // The same log written in deg/s: N 3600 times smaller, 5.6e-7 deg/sqrt(h).
+    let per_s: String = text
+        .lines()
+        .map(|l| match l.split_once(',') {
+            Some((t, r)) if !l.starts_with('#') && !l.starts_with('t') => {
+                format!("{t},{}\n", r.parse::<f64>().unwrap() / 3600.0)
+            }
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    assert!(notes(&per_s, "dps.csv").contains("is rate_dph in deg/s or rad/s?"));
+}
+
 /// Exit code 2, nothing on stdout, and the message names the place.
 fn refused(args: &[&str], place: &str, what: &str) {
     let (code, out, err) = nf(args);

@@ -80,6 +80,13 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     // malformed one is.
     let (points, fit) = fit_series(&src.segments(), src.sampling, src.removed.as_ref())
         .map_err(|e| Fail(format!("{}: {e}", a.file), 2))?;
+    let mut src = src;
+    if fit.model.arw_deg_rth > 0.0 && fit.model.arw_deg_rth < IMPLAUSIBLE_ARW {
+        src.notes.push(format!(
+            "N {} deg/sqrt(h) is below any gyro's (the best ring lasers and HRGs are near 1e-4): is rate_dph in deg/s or rad/s? deg/h is deg/s times 3600",
+            g(fit.model.arw_deg_rth)
+        ));
+    }
     let r = Report {
         file: &a.file,
         src: &src,
@@ -164,6 +171,9 @@ const TERMS: [(Term, &str, &str); 5] = [
     (Term::Quantization, "Q (quantisation)", "arcsec"),
     (Term::Ramp, "R (rate ramp, a trend)", "deg/h/h"),
 ];
+
+/// An angle random walk below this (deg/sqrt(h)) is a unit mistake, not a gyro.
+const IMPLAUSIBLE_ARW: f64 = 1e-5;
 
 /// A term's value and 68 % interval as the text and the noise file's comments give it.
 fn term_text(fit: &AllanFit, term: Term, unit: &str) -> String {
