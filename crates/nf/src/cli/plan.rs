@@ -341,7 +341,7 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         if let Some(s) = allowance {
             writeln!(
                 out,
-                "target {t}\" at n = {}: allowances of a third of the variance each: gyro {:.5} deg/h per position, encoder {:.5} deg, levelling {:.5} deg",
+                "target {t}\" at n = {}: allowances of a third of the variance each (the gyro's as white noise of a position's mean): gyro {:.5} deg/h per position, encoder {:.5} deg, levelling {:.5} deg",
                 a.n, s.gyro_dph, s.encoder_deg, s.tilt_deg
             )?;
         }
