@@ -209,8 +209,8 @@ fn reported_sigma_is_honest_and_equals_eq24_on_equal_steps() {
     assert!((0.95..1.05).contains(&sd), "{sd}");
 }
 
-#[test]
-fn sensitivity_matches_a_numerical_refit() {
+/// 15 uneven positions fitted with a quadratic drift and the second harmonic.
+fn curved_fit() -> (Vec<Obs<f64>>, FitConfig<f64>, nf_model::fit::FitResult<f64>) {
     let mut rng = Rng::new(9);
     let (_, obs) = run(&mut rng, 15, 0.01, false);
     let cfg = FitConfig {
@@ -219,6 +219,12 @@ fn sensitivity_matches_a_numerical_refit() {
         ..FitConfig::default()
     };
     let base = AzimuthFit::fit_all(cfg, &obs).unwrap();
+    (obs, cfg, base)
+}
+
+#[test]
+fn sensitivity_matches_a_numerical_refit() {
+    let (obs, cfg, base) = curved_fit();
     for i in 0..obs.len() {
         let h = 1e-4;
         let mut up = obs.clone();
@@ -244,14 +250,7 @@ fn prediction_variance_is_the_leverage_and_three_over_n_on_equal_steps() {
         assert!((fit.prediction_variance_unit(gamma, 0.0) - 0.25).abs() < 1e-12);
     }
     // At a fitted row it is the leverage: how far the fitted value follows the row's rate.
-    let mut rng = Rng::new(9);
-    let (_, obs) = run(&mut rng, 15, 0.01, false);
-    let cfg = FitConfig {
-        drift: Drift::Quadratic,
-        harmonics: 2,
-        ..FitConfig::default()
-    };
-    let base = AzimuthFit::fit_all(cfg, &obs).unwrap();
+    let (obs, cfg, base) = curved_fit();
     for (i, o) in obs.iter().enumerate() {
         let mut up = obs.clone();
         up[i].rate_dph += 1e-3;
