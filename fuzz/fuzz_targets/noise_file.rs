@@ -56,9 +56,9 @@ fn structured(u: &mut Unstructured) -> Result<()> {
     if m.validate().is_err() {
         return Ok(());
     }
-    let comment: String = u.arbitrary()?;
-    let comment = comment.replace(['\n', '\r'], " ");
-    let text = write(&m, &comment);
+    // Any comments: the writer keeps each on its line.
+    let comments: Vec<String> = u.arbitrary()?;
+    let text = write(&m, &comments);
     assert_eq!(parse(&text), Ok(m), "{text}");
     let mut obj = serde_json::Map::new();
     for (k, v) in KEYS.iter().zip(values(&m)) {
@@ -93,7 +93,7 @@ fuzz_target!(|data: &[u8]| {
     let text = nf_fuzz::text(data);
     if let Ok(m) = parse(&text) {
         assert_eq!(m.validate(), Ok(()));
-        let out = write(&m, "again");
+        let out = write(&m, &["again".to_string()]);
         assert_eq!(parse(&out), Ok(m), "{out}");
     }
     let _ = structured(&mut Unstructured::new(data));

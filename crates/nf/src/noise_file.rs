@@ -37,7 +37,8 @@ pub fn write(model: &NoiseModel, comments: &[String]) -> String {
     let mut out =
         String::from("# gyro noise model, IEEE Std 952 units (deg/sqrt(h), deg/h, deg/h/sqrt(h), s, arcsec)\n");
     for c in comments {
-        out += &format!("# {}\n", c.replace('\n', " "));
+        // A line break would end the comment and start a line the reader parses.
+        out += &format!("# {}\n", c.replace(['\n', '\r'], " "));
     }
     for key in KEYS {
         // `{}` is the shortest text that reads back to the same f64.
@@ -173,8 +174,8 @@ mod tests {
 
     #[test]
     fn write_then_read_is_the_same_model() {
-        let text = write(&model(), &["from a test".into(), "two\nlines".into()]);
-        assert!(text.contains("# from a test\n# two lines\n"));
+        let text = write(&model(), &["from a test".into(), "two\nlines\rarw_deg_rth = 9".into()]);
+        assert!(text.contains("# from a test\n# two lines arw_deg_rth = 9\n"));
         assert_eq!(parse(&text), Ok(model()));
         assert!(text.contains("rrw_dph_rth = 0.3333333333333333\n"));
         // Keys in any order, comments, missing keys zero.
