@@ -61,10 +61,7 @@ pub fn oavar(segments: &[&[f64]], step_s: f64, ms: &[usize]) -> Vec<Point> {
                 if n + 1 > 2 * m {
                     let k = n + 1 - 2 * m;
                     terms += k;
-                    sum += (0..k)
-                        .map(|i| (x[i + 2 * m] - 2.0 * x[i + m] + x[i]) / m as f64)
-                        .map(|d| d * d)
-                        .sum::<f64>();
+                    sum += (0..k).map(|i| second_difference(x, i, m).powi(2)).sum::<f64>();
                 }
             }
             Point {
@@ -80,6 +77,12 @@ pub fn oavar(segments: &[&[f64]], step_s: f64, ms: &[usize]) -> Vec<Point> {
             }
         })
         .collect()
+}
+
+/// From prefix sums `s` (a phase): the mean of the `m` values from `j + m` less the mean of
+/// the `m` before.
+pub fn second_difference(s: &[f64], j: usize, m: usize) -> f64 {
+    (s[j + 2 * m] - 2.0 * s[j + m] + s[j]) / m as f64
 }
 
 /// The `CI_LEVEL` interval of the Allan deviation given its variance estimate and the

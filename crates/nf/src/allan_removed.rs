@@ -7,6 +7,7 @@
 //! means `E (a' P x)^2 = a'Ga - 2 a'G X M X'a + a'X M X'G X M X'a`, `M = (X'X)^-1`: the first
 //! term is the Allan variance without the fit, the rest what the fit took.
 
+use crate::allan::second_difference;
 use crate::allan_model::Sampling;
 use crate::linfit;
 use crate::toeplitz;
@@ -112,11 +113,6 @@ fn prefix(v: &[f64]) -> Vec<f64> {
         s[i + 1] = s[i] + x;
     }
     s
-}
-
-/// The mean of `m` values from `j + m` less the mean of the `m` before, from prefix sums.
-fn second_difference(s: &[f64], j: usize, m: usize) -> f64 {
-    (s[j + 2 * m] - 2.0 * s[j + m] + s[j]) / m as f64
 }
 
 #[cfg(test)]
