@@ -654,6 +654,14 @@ fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
         t < 250.0 && j["fastest"]["sigma_arcsec"].as_f64().unwrap() <= 18.0,
         "{out}"
     );
+    // The orders that never reach it are stated at their best: the sequential floor.
+    let short = j["floor_per_order_short_of_target"].as_array().unwrap();
+    let seq_floor = short
+        .iter()
+        .find(|c| c["order"] == "sequential")
+        .expect("sequential is short of 18\"");
+    assert!(seq_floor["sigma_arcsec"].as_f64().unwrap() > 18.0, "{out}");
+    assert!(short.iter().all(|c| c["order"] != "opposite-pairs"), "{out}");
     // A sequential run of the paper's size scatters far more than white noise says.
     let seq = j["budget_noise_model"]["gyro_arcsec"].as_f64().unwrap();
     assert!(seq > 2.0 * j["budget_exact"]["gyro_arcsec"].as_f64().unwrap(), "{out}");

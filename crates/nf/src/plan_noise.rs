@@ -96,6 +96,9 @@ pub struct Plan {
     pub per_order: Vec<Candidate>,
     /// When no run reaches the target: the smallest uncertainty any searched run reaches.
     pub floor: Option<Candidate>,
+    /// For each order that does not reach the target, the smallest uncertainty its searched
+    /// runs reach: a sequential run's floor where balanced orders reach the target.
+    pub short_of: Vec<Candidate>,
 }
 
 /// Coarse dwells refined: those whose run is within this factor of the order's fastest on the
@@ -119,6 +122,7 @@ pub fn search(
         fastest: None,
         per_order: Vec::new(),
         floor: None,
+        short_of: Vec::new(),
     };
     // No run beats the levelling residue.
     if tilt_arcsec(budget.tilt_deg, budget.latitude_deg) >= target_arcsec {
@@ -166,6 +170,8 @@ pub fn search(
         }
     }
     plan.per_order.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
+    let reached: Vec<&str> = plan.per_order.iter().map(|c| c.order).collect();
+    plan.short_of.retain(|f| !reached.contains(&f.order));
     if plan.fastest.is_some() {
         plan.floor = None;
     } else if let Some(coarse) = plan.floor.clone()
@@ -184,6 +190,7 @@ pub fn search(
             }
         }
         if let Some(run) = found {
+            plan.short_of.retain(|f| f.order != run.order);
             plan.per_order.push(run.clone());
             plan.fastest = Some(run);
             plan.floor = None;
@@ -215,8 +222,15 @@ impl Scan<'_> {
             time_s: self.levelling_s + s.duration_s,
             sigma_arcsec: sigma,
         };
-        if c.time_s <= self.max_time_s && plan.floor.as_ref().is_none_or(|f| sigma < f.sigma_arcsec) {
-            plan.floor = Some(c.clone());
+        if c.time_s <= self.max_time_s {
+            if plan.floor.as_ref().is_none_or(|f| sigma < f.sigma_arcsec) {
+                plan.floor = Some(c.clone());
+            }
+            match plan.short_of.iter_mut().find(|f| f.order == c.order) {
+                Some(f) if sigma < f.sigma_arcsec => *f = c.clone(),
+                Some(_) => {}
+                None => plan.short_of.push(c.clone()),
+            }
         }
         Some(c)
     }
@@ -395,6 +409,18 @@ mod tests {
         let fastest = pairs.fastest.expect("opposite pairs reach 18\"");
         println!("sequential floor {floor:?}\nopposite pairs {fastest:?}");
         assert!(fastest.time_s < 250.0, "{fastest:?}");
+        // Searched together, the sequential order's floor is still stated, and the same.
+        let both = search(
+            &m,
+            &b,
+            &tm,
+            &[Order::OppositePairs, Order::Sequential],
+            &space,
+            18.0,
+            5.0,
+        );
+        assert_eq!(both.fastest, Some(fastest));
+        assert_eq!(both.short_of, vec![floor]);
     }
 
     /// Out of reach, the floor is the least sigma between the grid's points too: no run of

@@ -262,6 +262,9 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                 .as_ref()
                 .map(|p| p.per_order.iter().map(CandidateJson::from).collect()),
             floor: search.as_ref().and_then(|p| p.floor.as_ref()).map(CandidateJson::from),
+            floor_per_order_short_of_target: search
+                .as_ref()
+                .map(|p| p.short_of.iter().map(CandidateJson::from).collect()),
             gyro_dph_per_position: s.gyro_dph,
             monte_carlo: mc.map(|(sd_arcsec, formula_arcsec)| MonteCarloJson {
                 formula_arcsec,
@@ -338,6 +341,11 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
         for c in &p.per_order {
             writeln!(out, "  fastest {}", describe(c))?;
         }
+        if p.fastest.is_some() {
+            for c in &p.short_of {
+                writeln!(out, "  never reaches it: {} (its best)", describe(c))?;
+            }
+        }
         if let Some(s) = allowance {
             writeln!(
                 out,
@@ -351,7 +359,11 @@ pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
                 "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s of dwell per position",
                 short(inp.dwell_s)
             )?,
-            None => writeln!(out, "target {t}\": not reachable by the paper's Eq. 31")?,
+            None => writeln!(
+                out,
+                "target {t}\": the paper's Eq. 31 (white noise, {} s of dwell per position) reaches it with no n",
+                short(inp.dwell_s)
+            )?,
         }
     }
     if let Some((c, stated, k)) = &twin {

@@ -30,8 +30,8 @@ pub struct SimArgs {
     /// Number of positions.
     #[arg(long, conflicts_with = "config", allow_hyphen_values = true, default_value_t = 72, value_parser = clap::value_parser!(u16).range(4..=720))]
     n: u16,
-    /// Visiting order: sequential, forward-back, opposite-pairs, interleaved, or a
-    /// comma-separated list of position numbers.
+    /// Visiting order: sequential, forward-back, opposite-pairs, alternating-pairs,
+    /// interleaved, or a comma-separated list of position numbers.
     #[arg(long, conflicts_with = "config", default_value = "sequential")]
     order: String,
     /// End the run when the firmware's running sigma under the gyro's noise model reaches this,

@@ -32,6 +32,9 @@ pub(super) struct PlanJson {
     pub fastest_per_order: Option<Vec<CandidateJson>>,
     /// When no run reaches the target, the smallest uncertainty any run reaches; else null.
     pub floor: Option<CandidateJson>,
+    /// Each order that does not reach the target, at its smallest uncertainty; null without a
+    /// target.
+    pub floor_per_order_short_of_target: Option<Vec<CandidateJson>>,
     /// White gyro noise of one position's mean, deg/h.
     pub gyro_dph_per_position: f64,
     /// The Monte Carlo check of the formula; null with --mc-runs 0.
