@@ -5,6 +5,7 @@
 
 use super::kind::Kind;
 use super::model::{Model, Summary, summary};
+use crate::linfit::Ls;
 use nf_model::angle::{wrap_180, wrap_360};
 
 /// A model the selection met: the chain of named effects, or an alternative to a step.
@@ -26,16 +27,20 @@ pub struct Weighted {
     pub rival: Option<(Kind, Kind)>,
 }
 
+/// The Bayesian information criterion of a whitened fit with `scanned` parameters a scan
+/// chose beside its columns.
+pub fn bic(ls: &Ls, scanned: usize) -> f64 {
+    let n = ls.resid.len() as f64;
+    n * (ls.rss / n).ln() + (ls.coef.len() + scanned) as f64 * n.ln()
+}
+
 /// The averaged summary (RSS of the heaviest model) and each model's weight.
 pub fn average(variants: &[Variant]) -> Option<(Summary, Vec<Weighted>)> {
     let fits: Vec<(f64, Summary, &Variant)> = variants
         .iter()
         .filter_map(|v| {
             let ls = v.model.fit()?;
-            let n = ls.resid.len() as f64;
-            let k = (v.model.cols.len() + v.scanned) as f64;
-            let bic = n * (ls.rss / n).ln() + k * n.ln();
-            Some((bic, summary(&ls), v))
+            Some((bic(&ls, v.scanned), summary(&ls), v))
         })
         .collect();
     let low = fits.iter().map(|f| f.0).fold(f64::MAX, f64::min);

@@ -185,4 +185,15 @@ pub trait Effect {
     /// The tests of the effect's forms against the current model; empty where it does not
     /// apply (already named, a column the recording lacks, too few positions).
     fn test(&self, s: &State) -> Vec<Proposal>;
+    /// A wider form of the effect as named in `m` (the drift's curve beyond its line): its
+    /// name and columns. The averaging meets it as a rival of the chain even where its test
+    /// is not significant, since the narrower form leaves its part in the azimuth.
+    fn extension(&self, _d: &Data, _m: &Model) -> Option<Extension> {
+        None
+    }
+}
+
+pub struct Extension {
+    pub form: &'static str,
+    pub cols: Vec<Vec<f64>>,
 }

@@ -4,7 +4,7 @@
 //! one whose model has the best BIC is named. So a recording that has none of the effects is
 //! named for one with probability at most `alpha`.
 
-use super::averaging::Variant;
+use super::averaging::{self, Variant};
 use super::data::Data;
 use super::effect::{Change, Effect, Frame, Param, Proposal, State};
 use super::kind::Kind;
@@ -84,6 +84,7 @@ impl<'a> Selector<'a> {
         let mut scanned = 0;
         let mut steps = 0;
         let mut undecided = Vec::new();
+        let mut label = String::from("Eq. 7");
         for _ in 0..MAX_STEPS {
             steps += 1;
             let named: Vec<Kind> = findings.iter().map(|f| f.effect).collect();
@@ -108,23 +109,38 @@ impl<'a> Selector<'a> {
                     );
                 }
             }
+            let widened = findings
+                .iter()
+                .any(|f| f.effect == chosen.kind && f.effect != Kind::Outliers);
+            let form = self.form_of(chosen.kind, &model);
             model = match &chosen.change {
                 Change::Columns(cols) => model.with(Some(chosen.kind), cols.clone(), w),
                 Change::Response(y) => model.with_y(y.clone(), w),
                 Change::Nothing => model,
             };
             fit = model.fit().ok_or("the extended model does not fit")?;
-            if let Change::Columns(_) = chosen.change {
-                scanned += chosen.scanned;
-                let label = findings
-                    .iter()
-                    .map(|f| f.effect.name())
-                    .chain([chosen.kind.name()])
-                    .collect::<Vec<_>>()
-                    .join(" + ");
+            let columns = matches!(chosen.change, Change::Columns(_));
+            scanned += if columns { chosen.scanned } else { 0 };
+            absorb(&mut findings, chosen, summary(&fit));
+            if columns {
+                label = findings.iter().map(|f| f.effect.name()).collect::<Vec<_>>().join(" + ");
+                if let Some(form) = form.filter(|_| widened) {
+                    label = format!("{label} ({form})");
+                }
                 meet(&mut variants, true, variant(&label, &model, scanned, None));
             }
-            absorb(&mut findings, chosen, summary(&fit));
+        }
+        // The wider forms of what was named, as rivals of the chain even where their test
+        // is not significant: in a sweep the drift's curve is mostly the first harmonic, so
+        // it can move the azimuth by several of the line's sigmas while its own test, beyond
+        // the line, stays near one sigma. Averaged in by its weight, its spread is in the
+        // sigma.
+        for e in self.effects {
+            if let Some(ext) = e.extension(self.data, &model) {
+                let m = model.with(Some(e.kind()), ext.cols, w);
+                let name = format!("{label} ({} {})", e.kind().name(), ext.form);
+                meet(&mut variants, false, variant(&name, &m, scanned, None));
+            }
         }
         Ok(Selection {
             model,
@@ -135,6 +151,12 @@ impl<'a> Selector<'a> {
             undecided,
             steps,
         })
+    }
+
+    /// The name of the wider form of `kind` that `model` has room for.
+    fn form_of(&self, kind: Kind, model: &Model) -> Option<&'static str> {
+        let e = self.effects.iter().find(|e| e.kind() == kind)?;
+        e.extension(self.data, model).map(|x| x.form)
     }
 
     /// The significant proposals of one step, the one to name first (best BIC), then the rest
@@ -201,10 +223,10 @@ impl<'a> Selector<'a> {
         // Among significant models the one the averaging weighs most leads: p-values of tests
         // under different noise models do not rank explanations.
         let bic = |c: &Proposal| match &c.change {
-            Change::Columns(cols) => model.with(Some(c.kind), cols.clone(), self.whitener).fit().map(|f| {
-                let n = f.resid.len() as f64;
-                n * (f.rss / n).ln() + (f.coef.len() + c.scanned) as f64 * n.ln()
-            }),
+            Change::Columns(cols) => model
+                .with(Some(c.kind), cols.clone(), self.whitener)
+                .fit()
+                .map(|f| averaging::bic(&f, c.scanned)),
             _ => None,
         };
         if cands.first().is_some_and(|c| matches!(c.change, Change::Columns(_))) {
@@ -266,13 +288,18 @@ fn variant(label: &str, model: &Model, scanned: usize, rival: Option<(Kind, Kind
     }
 }
 
-/// Adds a finding; further outliers join the first finding of them.
+/// Adds a finding; further outliers join the first finding of them, and a drift's curve
+/// beyond its line takes the line's place (its parameters are both).
 fn absorb(findings: &mut Vec<Finding>, c: Proposal, after: Summary) {
-    if c.kind == Kind::Outliers
-        && let Some(f) = findings.iter_mut().find(|f| f.effect == Kind::Outliers)
-    {
-        f.parameters.extend(c.parameters);
-        f.location = format!("{}; {}", f.location, c.location);
+    if let Some(f) = findings.iter_mut().find(|f| f.effect == c.kind) {
+        if c.kind == Kind::Outliers {
+            f.parameters.extend(c.parameters);
+            f.location = format!("{}; {}", f.location, c.location);
+        } else {
+            f.parameters = c.parameters;
+            f.location = c.location;
+            f.p_value = f.p_value.max(c.p);
+        }
         f.after = after;
         return;
     }
