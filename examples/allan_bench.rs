@@ -4,7 +4,7 @@
 //! often quantisation or a Gauss-Markov term was (falsely) kept.
 //!
 //! `cargo run --release --example allan_bench -- [seeds] [hours] [rate_hz]` (default 100 seeds
-//! of 4 h logs at 10 Hz).
+//! of 4 h logs at 10 Hz); `CASE="N + GM"` runs one case.
 
 use nf::allan_fit::{AllanFit, Term, fit_series};
 use nf::allan_model::Sampling;
@@ -46,6 +46,7 @@ fn fit(noise: NoiseModel, seed: u64, len: Length) -> AllanFit {
 fn main() {
     let arg = |i: usize| std::env::args().nth(i).and_then(|s| s.parse::<f64>().ok());
     let seeds = arg(1).unwrap_or(100.0) as u64;
+    let only = std::env::var("CASE").ok();
     let len = Length {
         hours: arg(2).unwrap_or(4.0),
         rate_hz: arg(3).unwrap_or(10.0),
@@ -77,6 +78,14 @@ fn main() {
                 ..white
             },
         ),
+        (
+            "N + GM",
+            NoiseModel {
+                gm_sigma_dph: 0.01,
+                gm_tau_s: 300.0,
+                ..white
+            },
+        ),
         ("N only", white),
     ];
     println!(
@@ -84,6 +93,9 @@ fn main() {
         len.hours, len.rate_hz
     );
     for (name, truth) in cases {
+        if only.as_deref().is_some_and(|c| c != name) {
+            continue;
+        }
         let fits: Vec<AllanFit> = (0..seeds).map(|s| fit(truth, 1000 + s, len)).collect();
         let k = seeds as f64;
         let mut line = format!("{name:<10}");
