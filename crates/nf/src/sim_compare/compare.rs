@@ -1,6 +1,6 @@
 //! A recording's profile against the profiles of replays of the simulation: each quantity
 //! judged against the replays' spread (a prediction interval, Student-t on the replays'
-//! degrees of freedom), Bonferroni over the quantities.
+//! degrees of freedom; a scatter's on the log scale), Bonferroni over the quantities.
 
 use super::profile::{Profile, Quantity};
 use crate::stats::t_sf2;
@@ -86,7 +86,12 @@ pub fn compare(rec: &Profile, sims: &[Profile], alpha: f64) -> Comparison {
             }
             // A noise-free simulation has no spread: then only digits separate them.
             let at = predict(&v, r, |m| (1e-9 * r.abs().max(m.abs())).max(q.resolution()));
-            Some((q, r, at.mean, at.sd, at.z, at.p))
+            let logs = (q.is_scale() && r > 0.0 && v.iter().all(|x| *x > 0.0)).then(|| {
+                let ln: Vec<f64> = v.iter().map(|x| x.ln()).collect();
+                predict(&ln, r.ln(), |_| 1e-9)
+            });
+            let (z, p) = logs.map_or((at.z, at.p), |l| (l.z, l.p));
+            Some((q, r, at.mean, at.sd, z, p))
         })
         .map(|(quantity, recording, simulated, simulated_sd, z, p)| Line {
             quantity,

@@ -238,8 +238,8 @@ fn over_the_run(q: Quantity) -> bool {
     matches!(q, Quantity::ResidualSd | Quantity::Allan(_))
 }
 
-/// The effects the recording shows, judged against the file, then those only `sim_diag` (a
-/// diagnosis of a replay of the file) shows at a size the recording would show too, where the
+/// The effects the recording shows, judged against the file, then those only `sim_diags`
+/// (diagnoses of replays of the file) show at a size the recording would show too, where the
 /// recording departs from the replays somewhere. A colour the file lacks by name but has as
 /// another, where `before` (the recording against replays of the file) finds their noise over
 /// the run alike, is equivalent: one run tells flicker, a walk and a Gauss-Markov bias apart
@@ -249,7 +249,7 @@ pub fn judge(
     rec: &Recording,
     diag: &Diagnosis,
     file: &InstrumentFile,
-    sim_diag: &Diagnosis,
+    sim_diags: &[Diagnosis],
     before: &Comparison,
     dwell_s: f64,
     origin_s: f64,
@@ -275,7 +275,7 @@ pub fn judge(
             })
         })
         .collect();
-    for f in &sim_diag.findings {
+    for f in sim_diags.iter().flat_map(|d| &d.findings) {
         if out.iter().any(|p| p.kind == f.effect) || diag.findings.iter().any(|g| g.effect == f.effect) {
             continue;
         }

@@ -73,3 +73,36 @@ fn a_burst_within_one_dwell_is_not_the_quarters_white_level() {
         quarter_sd(&rec) / clean
     );
 }
+
+#[test]
+fn each_recording_gets_replays_of_its_own() {
+    let file = InstrumentFile::default();
+    let rec = simulated(&file);
+    let mut other = file.clone();
+    other.seed += 1;
+    let rec2 = simulated(&other);
+    assert_eq!(seed(&file, &rec, 3), seed(&file, &rec, 3));
+    assert_ne!(seed(&file, &rec, 3), seed(&file, &rec2, 3));
+    assert_ne!(seed(&file, &rec, 3), seed(&file, &rec, 4));
+    // Away from the file's own noise, which simulated the recording.
+    assert_ne!(seed(&file, &rec, 0), file.seed);
+}
+
+#[test]
+fn a_scatter_is_judged_on_the_log_scale() {
+    // Replays whose residual scatter spreads by a factor (one met a long burst): a recording
+    // a quarter of their typical scatter stands out on the log scale, not on the linear one.
+    let sims: Vec<profile::Profile> = [0.015, 0.017, 0.02, 0.019, 0.016, 0.035]
+        .iter()
+        .map(|&sd| vec![(Quantity::ResidualSd, sd), (Quantity::Bias, sd)])
+        .collect();
+    let rec = vec![(Quantity::ResidualSd, 0.0046), (Quantity::Bias, 0.0046)];
+    let c = compare::compare(&rec, &sims, 0.05);
+    let (scatter, bias) = (c.line(Quantity::ResidualSd).unwrap(), c.line(Quantity::Bias).unwrap());
+    assert!(scatter.mismatch && scatter.z < -4.0, "{scatter:?}");
+    assert!(!bias.mismatch, "{bias:?}");
+    assert!(
+        (scatter.simulated - 0.0203).abs() < 1e-4,
+        "reported in deg/h: {scatter:?}"
+    );
+}
