@@ -408,3 +408,27 @@ fn a_file_for_another_latitude_is_said_to_be_so() {
     );
     assert_eq!(s.fixed.file.site.latitude_deg, rec.latitude_deg);
 }
+
+#[test]
+fn heavy_tailed_samples_the_simulation_lacks_are_measured_and_put_in() {
+    // Samples of a Student-t of 5 dof: their dwell means are Gaussian, their spread is not.
+    let mut tailed = base();
+    tailed.noise.student_t_dof = 5.0;
+    let mut dofs = Vec::new();
+    for seed in 1..=3 {
+        tailed.seed = seed;
+        let s = against(&recording(&tailed), &base());
+        let l = s.before.line(sim_compare::Quantity::SampleKurtosis).unwrap();
+        assert!(l.mismatch, "seed {seed}: {l:?}");
+        let fixed = s.fixed.file.noise.student_t_dof;
+        let after = s.fixed.after.line(sim_compare::Quantity::SampleKurtosis).unwrap();
+        assert!(!after.mismatch, "seed {seed}: {after:?}");
+        dofs.push(fixed);
+    }
+    println!("fixed dof {dofs:?}");
+    assert!(dofs.iter().all(|d| (4.3..8.0).contains(d)), "{dofs:?}");
+    // The other way: tails only the simulation has are taken out.
+    let s = against(&recording(&base()), &tailed);
+    assert!(s.before.line(sim_compare::Quantity::SampleKurtosis).unwrap().mismatch);
+    assert_eq!(s.fixed.file.noise.student_t_dof, 0.0);
+}

@@ -11,6 +11,7 @@ mod plan;
 mod positions;
 mod profile;
 mod replay;
+mod sample_tails;
 #[cfg(test)]
 mod tests;
 mod thermometer;
@@ -173,6 +174,8 @@ impl Target<'_> {
         let (f2, noise) = fix::noise(&f1, &cmp1, physics, self.diag);
         let cmp2 = if noise.is_empty() { cmp1 } else { compared(&f2) };
         changes.extend(noise);
+        let (f2, tails) = sample_tails::fix(&f2, &cmp2, rec.rows.len());
+        changes.extend(tails);
         let (f3, moved) = fix::moments(&f2, &cmp2);
         changes.extend(moved);
         let sims2 = replays(&f3, rec, opt.replays, run_origin_s(&f3));

@@ -28,6 +28,10 @@ pub enum Quantity {
     QuarterSd,
     /// Mean spread of the samples in a dwell, deg/h.
     SampleSd,
+    /// Excess kurtosis of the samples, as the spread of the dwells' sample variances shows it
+    /// (heavy-tailed samples, a ring-laser gyro's dither say, scatter them beyond the
+    /// `2 / (m - 1)` of Gaussian ones).
+    SampleKurtosis,
     /// First harmonic of the X inclinometer (the shaft tilt), deg.
     TiltCircle,
     /// Mean of the X inclinometer (its offset), deg.
@@ -81,6 +85,7 @@ impl fmt::Display for Quantity {
             Quantity::Allan(m) => write!(f, "allan_{m}_positions_dph"),
             Quantity::QuarterSd => write!(f, "quarter_sd_dph"),
             Quantity::SampleSd => write!(f, "sample_sd_dph"),
+            Quantity::SampleKurtosis => write!(f, "sample_excess_kurtosis"),
             Quantity::TiltCircle => write!(f, "tilt_circle_deg"),
             Quantity::TiltOffset => write!(f, "tilt_offset_deg"),
         }
@@ -139,6 +144,28 @@ fn quarter_sd(quarters: &[[f64; 4]]) -> Option<f64> {
     Some(mean(&kept).sqrt())
 }
 
+/// The samples' excess kurtosis from each dwell's sample sd and count `(s, m)`: a sample
+/// variance of `m` values has variance `sigma^4 (2 / (m - 1) + kurtosis / m)`. `None` under
+/// eight dwells of four samples or more.
+fn excess_kurtosis(spreads: &[(f64, f64)]) -> Option<f64> {
+    let v: Vec<(f64, f64)> = spreads
+        .iter()
+        .filter(|(s, m)| *m >= 4.0 && s.is_finite())
+        .map(|(s, m)| (s * s, *m))
+        .collect();
+    if v.len() < 8 {
+        return None;
+    }
+    let mu = v.iter().map(|x| x.0).sum::<f64>() / v.len() as f64;
+    (mu > 0.0).then(|| {
+        mean(
+            &v.iter()
+                .map(|(s2, m)| m * ((s2 / mu - 1.0).powi(2) - 2.0 / (m - 1.0)))
+                .collect::<Vec<_>>(),
+        )
+    })
+}
+
 /// The profile of `rec`; `None` when its positions do not determine the fit.
 pub fn profile(rec: &Recording) -> Option<Profile> {
     let mut rows: Vec<_> = rec.rows.iter().collect();
@@ -179,6 +206,13 @@ pub fn profile(rec: &Recording) -> Option<Profile> {
     let sds: Vec<f64> = rows.iter().filter_map(|r| r.rate_sd_dph).collect();
     if !sds.is_empty() {
         p.push((Quantity::SampleSd, mean(&sds)));
+    }
+    let spreads: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|r| Some((r.rate_sd_dph?, f64::from(r.samples?))))
+        .collect();
+    if let Some(k) = excess_kurtosis(&spreads) {
+        p.push((Quantity::SampleKurtosis, k));
     }
     let tilt: Vec<(f64, f64)> = rows
         .iter()
