@@ -85,6 +85,8 @@ impl<'a> Selector<'a> {
         let mut steps = 0;
         let mut undecided = Vec::new();
         let mut label = String::from("Eq. 7");
+        // The wider forms named in place of the narrower (the drift's curve), for the labels.
+        let mut widened: Vec<(Kind, &'static str)> = Vec::new();
         for _ in 0..MAX_STEPS {
             steps += 1;
             let named: Vec<Kind> = findings.iter().map(|f| f.effect).collect();
@@ -109,10 +111,11 @@ impl<'a> Selector<'a> {
                     );
                 }
             }
-            let widened = findings
-                .iter()
-                .any(|f| f.effect == chosen.kind && f.effect != Kind::Outliers);
-            let form = self.form_of(chosen.kind, &model);
+            if findings.iter().any(|f| f.effect == chosen.kind)
+                && let Some(form) = self.form_of(chosen.kind, &model)
+            {
+                widened.push((chosen.kind, form));
+            }
             model = match &chosen.change {
                 Change::Columns(cols) => model.with(Some(chosen.kind), cols.clone(), w),
                 Change::Response(y) => model.with_y(y.clone(), w),
@@ -123,10 +126,14 @@ impl<'a> Selector<'a> {
             scanned += if columns { chosen.scanned } else { 0 };
             absorb(&mut findings, chosen, summary(&fit));
             if columns {
-                label = findings.iter().map(|f| f.effect.name()).collect::<Vec<_>>().join(" + ");
-                if let Some(form) = form.filter(|_| widened) {
-                    label = format!("{label} ({form})");
-                }
+                label = findings
+                    .iter()
+                    .map(|f| match widened.iter().find(|w| w.0 == f.effect) {
+                        Some((_, form)) => format!("{} ({form})", f.effect.name()),
+                        None => f.effect.name().to_string(),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(" + ");
                 meet(&mut variants, true, variant(&label, &model, scanned, None));
             }
         }
