@@ -86,7 +86,7 @@ pub fn compare(rec: &Profile, sims: &[Profile], alpha: f64) -> Comparison {
             }
             // A noise-free simulation has no spread: then only digits separate them.
             let at = predict(&v, r, |m| (1e-9 * r.abs().max(m.abs())).max(q.resolution()));
-            let logs = (q.is_scale() && r > 0.0 && v.iter().all(|x| *x > 0.0)).then(|| {
+            let logs = (q.is_scatter() && r > 0.0 && v.iter().all(|x| *x > 0.0)).then(|| {
                 let ln: Vec<f64> = v.iter().map(|x| x.ln()).collect();
                 predict(&ln, r.ln(), |_| 1e-9)
             });

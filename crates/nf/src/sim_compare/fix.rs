@@ -148,14 +148,6 @@ pub fn settling_fit(rec: &Recording, settle_s: f64, dwell_s: f64) -> Option<(f64
         .map(|(_, size, tau)| (size, tau))
 }
 
-/// The noise quantities of a profile.
-fn is_noise(q: Quantity) -> bool {
-    matches!(
-        q,
-        Quantity::ResidualSd | Quantity::Allan(_) | Quantity::QuarterSd | Quantity::SampleSd
-    )
-}
-
 /// The factor within which the white level the samples' spread gives and the recording's
 /// estimate from its dwell and quarter means must agree for the samples' to be taken: beyond
 /// it the gyro's samples are not white (a sensor's filter, a correlation over seconds), and
@@ -303,11 +295,11 @@ pub fn noise(
         .into_iter()
         .find_map(|q| Some((q, off(q)?)))
         .filter(|(_, (_, s))| *s > 0.0 && f.noise.arw_deg_rth > 0.0)
-        .filter(|_| !noise_named && !cmp.any(|q| is_noise(q) && !within_dwell(q)));
+        .filter(|_| !noise_named && !cmp.any(|q| q.is_scatter() && !within_dwell(q)));
     if let Some((q, (r, s))) = white_scale {
         f.noise.arw_deg_rth *= r / s;
         notes.push(format!("noise: angle random walk times {:.4} (the {q})", r / s));
-    } else if noise_named || cmp.any(is_noise) {
+    } else if noise_named || cmp.any(Quantity::is_scatter) {
         let tails = f.noise.student_t_dof;
         f.noise = Noise::of(&noise_of(diag));
         f.noise.student_t_dof = tails;

@@ -48,11 +48,12 @@ impl Quantity {
         )
     }
 
-    /// Scatters, judged on the log scale: they are positive and spread by a factor, and a
-    /// replay that met a long burst scatters far more than the rest (shocks only the
-    /// simulation had: the replays' residual sd 0.020 +- 0.005 deg/h against the
-    /// recording's 0.0046, z -2.9 on the linear scale and no mismatch).
-    pub fn is_scale(self) -> bool {
+    /// The noise's scatters (the residual's, the Allan deviations, the quarters' and the
+    /// samples'): what the fix's noise acts on. Judged on the log scale: they are positive
+    /// and spread by a factor, and a replay that met a long burst scatters far more than the
+    /// rest (shocks only the simulation had: the replays' residual sd 0.020 +- 0.005 deg/h
+    /// against the recording's 0.0046, z -2.9 on the linear scale and no mismatch).
+    pub fn is_scatter(self) -> bool {
         matches!(
             self,
             Quantity::ResidualSd | Quantity::Allan(_) | Quantity::QuarterSd | Quantity::SampleSd
