@@ -400,3 +400,15 @@ fn log_strips_colours_skips_invalid_utf8_and_notices_a_lost_rec_line() {
         "{err}"
     );
 }
+
+#[test]
+fn the_suite_keeps_its_misses_only_where_it_can_write() {
+    let file = recording("keep-is-a-file.csv", "12");
+    let inside = format!("{file}/misses");
+    let err = refused(
+        &["diagnose", "--evaluate", "--category", "large_tilt", "--keep", &inside],
+        "--keep",
+    );
+    assert!(err.contains("misses"), "{err}");
+    refused(&["diagnose", &file, "--keep", &inside], "--keep");
+}

@@ -17,7 +17,7 @@ fn clear_effects_are_named_first_and_clean_recordings_stay_clean() {
         clean: 60,
         category: Some("white".into()),
     };
-    let ev = evaluate(&opts, &outcome, &mut || {});
+    let ev = evaluate(&opts, &outcome, &mut |_| {});
     let white = &ev.categories[0];
     let clear: Vec<_> = white.rows.iter().filter(|r| r.label.ends_with(" clear")).collect();
     assert_eq!(clear.len(), Kind::CATALOGUE.len());

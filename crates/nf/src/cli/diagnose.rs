@@ -1,6 +1,7 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
 use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
+use super::suite_keep::Keeper;
 use super::{Fail, angle5, diagnose_sim, read_recording, write_out};
 use crate::diagnose::{Diagnosis, Options, Point, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
@@ -15,6 +16,7 @@ use crate::report::Page;
 use crate::sim_compare;
 use nf_model::noise::NoiseModel;
 use std::io::Write;
+use std::path::Path;
 
 mod json;
 
@@ -65,6 +67,10 @@ pub struct DiagnoseArgs {
     /// Replays of the simulation per comparison.
     #[arg(long, allow_hyphen_values = true, default_value_t = 20, value_parser = clap::value_parser!(u32).range(3..=1000))]
     replays: u32,
+    /// Write each suite recording the diagnosis missed (a false alarm, a final worse than the
+    /// baseline or beyond 3 sigma) into this directory, its truth in the metadata.
+    #[arg(long, requires = "evaluate")]
+    keep: Option<String>,
     /// Run one category of the suite only.
     #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(diagnose_eval::category_names()))]
     category: Option<String>,
@@ -380,8 +386,27 @@ fn diagnose_evaluate(a: &DiagnoseArgs) -> Result<(), Fail> {
         ..Options::default()
     };
     let diag = |rec: &Recording| diagnose(rec, &opt).ok().map(|d| diagnose_eval::outcome_of(&d));
-    let ev = diagnose_eval::evaluate(&opts, &diag, &mut || bar.inc(1));
+    let mut keeper = match &a.keep {
+        Some(dir) => Some(Keeper::new(Path::new(dir)).map_err(|e| Fail(e, 2))?),
+        None => None,
+    };
+    let ev = diagnose_eval::evaluate(&opts, &diag, &mut |s| {
+        bar.inc(1);
+        if let Some(k) = keeper.as_mut() {
+            k.see(s);
+        }
+    });
     bar.finish_and_clear();
+    if let Some(k) = keeper {
+        if let Some(e) = k.failed {
+            return Err(Fail(e, 1));
+        }
+        eprintln!(
+            "kept {} missed recordings in {}",
+            k.kept,
+            a.keep.as_deref().unwrap_or_default()
+        );
+    }
     let mut out = std::io::stdout().lock();
     if a.json {
         let j = diagnose_eval::json(&ev, a.alpha);

@@ -11,6 +11,7 @@ mod noise_args;
 mod paper;
 mod plan;
 mod simulate;
+mod suite_keep;
 
 use crate::recording::Recording;
 use allan::{AllanArgs, cmd_allan};

@@ -48,6 +48,47 @@ pub struct Tally {
     pub false_named: BTreeMap<Kind, u32>,
 }
 
+/// What one diagnosis got wrong, as the suite counts it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Missed {
+    /// An effect named on a clean recording.
+    pub false_alarm: bool,
+    /// The final azimuth worse than the baseline's by more than 3 baseline sigma.
+    pub worse: bool,
+    /// The final azimuth off by more than 3 of its own reported sigma.
+    pub beyond: bool,
+}
+
+impl Missed {
+    pub fn of(truth: &Truth, o: &Outcome) -> Missed {
+        let before = error_arcsec(o.baseline_deg, truth.psi_deg);
+        let after = error_arcsec(o.final_deg, truth.psi_deg);
+        Missed {
+            false_alarm: truth.effects.is_empty() && !o.effects.is_empty(),
+            worse: after.abs() - before.abs() > 3.0 * o.baseline_sigma_arcsec,
+            beyond: after.abs() > 3.0 * o.final_sigma_arcsec,
+        }
+    }
+
+    pub fn any(&self) -> bool {
+        self.false_alarm || self.worse || self.beyond
+    }
+
+    /// The misses in words, `, `-separated.
+    pub fn describe(&self) -> String {
+        [
+            (self.false_alarm, "false alarm"),
+            (self.worse, "worse than the baseline by 3 sigma"),
+            (self.beyond, "beyond 3 reported sigma"),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, text)| *text)
+        .collect::<Vec<_>>()
+        .join(", ")
+    }
+}
+
 /// Azimuth error, arcsec, wrapped to +-180 deg.
 pub fn error_arcsec(azimuth_deg: f64, psi_deg: f64) -> f64 {
     wrap_180(azimuth_deg - psi_deg) * 3600.0
@@ -61,9 +102,10 @@ impl Tally {
             return;
         };
         self.runs += 1;
+        let missed = Missed::of(truth, o);
         if truth.effects.is_empty() {
             self.clean += 1;
-            self.false_alarms += u32::from(!o.effects.is_empty());
+            self.false_alarms += u32::from(missed.false_alarm);
             count(&mut self.false_named, &o.effects);
         } else {
             self.with_effect += 1;
@@ -76,8 +118,8 @@ impl Tally {
         self.sq_err_baseline += before * before;
         self.sq_err_final += after * after;
         self.sq_z_final += (after / o.final_sigma_arcsec).powi(2);
-        self.worse_than_baseline += u32::from(after.abs() - before.abs() > 3.0 * o.baseline_sigma_arcsec);
-        self.beyond_3_sigma += u32::from(after.abs() > 3.0 * o.final_sigma_arcsec);
+        self.worse_than_baseline += u32::from(missed.worse);
+        self.beyond_3_sigma += u32::from(missed.beyond);
         count(&mut self.noise_named, &o.noise_terms);
     }
 

@@ -21,7 +21,7 @@ use categories::Category;
 use nf_twin::Rng;
 
 pub use conceal::LEVELS;
-pub use metrics::{Tally, Truth};
+pub use metrics::{Missed, Tally, Truth};
 pub use table::{json, text};
 
 /// What the suite needs of one diagnosis.
@@ -101,13 +101,26 @@ pub fn planned_runs(opts: &EvalOptions) -> u64 {
         .sum()
 }
 
+/// One recording of the suite, as it was diagnosed.
+pub struct Seen<'a> {
+    pub category: &'static str,
+    pub row: &'a str,
+    /// Its number in the row, from 0.
+    pub number: u32,
+    /// The recording's text, as the diagnosis read it.
+    pub text: &'a str,
+    pub truth: &'a Truth,
+    /// `None` where the diagnosis refused the recording.
+    pub missed: Option<Missed>,
+}
+
 /// Runs the suite: for each recording, `diag` gives the outcome (`None` when it refuses the
-/// recording) and `tick` is called. Each row draws from its own seed, so that one category
+/// recording) and `seen` is told of it. Each row draws from its own seed, so that one category
 /// run alone gives the same numbers as in the full suite.
 pub fn evaluate(
     opts: &EvalOptions,
     diag: &dyn Fn(&Recording) -> Option<Outcome>,
-    tick: &mut dyn FnMut(),
+    seen: &mut dyn FnMut(&Seen<'_>),
 ) -> Evaluation {
     let mut ev = Evaluation::default();
     for (at, category) in chosen(opts) {
@@ -116,10 +129,20 @@ pub fn evaluate(
         for (r, spec) in category.rows(opts).into_iter().enumerate() {
             let mut rng = Rng::new(0xD1A6 ^ ((at as u64) << 32) ^ r as u64);
             let mut tally = Tally::default();
-            for _ in 0..spec.runs {
+            for number in 0..spec.runs {
                 let (case, truth) = spec.setup.draw(&mut rng);
-                tally.add(&truth, diag(&case.record()).as_ref());
-                tick();
+                let text = case.text();
+                // The twin always writes a valid recording; a failed parse would be a bug of the suite.
+                let outcome = diag(&Recording::parse(&text).expect("twin recordings parse"));
+                tally.add(&truth, outcome.as_ref());
+                seen(&Seen {
+                    category: category.name(),
+                    row: &spec.label,
+                    number,
+                    text: &text,
+                    truth: &truth,
+                    missed: outcome.as_ref().map(|o| Missed::of(&truth, o)),
+                });
             }
             total.merge(&tally);
             rows.push(RowResult {
@@ -164,11 +187,11 @@ mod tests {
             })
         };
         let mut ticks = 0;
-        let alone = evaluate(&one("large_tilt"), &diag, &mut || ticks += 1);
+        let alone = evaluate(&one("large_tilt"), &diag, &mut |_| ticks += 1);
         assert_eq!(ticks as u64, planned_runs(&one("large_tilt")));
         assert_eq!(alone.categories.len(), 1);
         assert_eq!(alone.categories[0].name, "large_tilt");
-        let again = evaluate(&one("large_tilt"), &diag, &mut || {});
+        let again = evaluate(&one("large_tilt"), &diag, &mut |_| {});
         assert_eq!(alone, again);
         assert_eq!(planned_runs(&one("no_such_category")), 0);
         assert!(category_names().contains(&"heavy_tails"));
