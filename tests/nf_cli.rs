@@ -369,11 +369,21 @@ fn fit_of_a_bad_recording_names_the_line() {
         assert!(err.contains("3 positions") && err.contains(least), "{err}");
     }
     std::fs::write(&bad, "# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n0,1,0,1\n1,2,90,1\n2,3,180,1\n3,4,270,1\n").unwrap();
+    // What the recording cannot give is bad input: exit 2, as a malformed line.
     let (code, _, err) = nf(&["fit", &bad, "--tilt", "exact"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2);
     assert!(err.contains("needs inclinometer readings"), "{err}");
-    let (code, _, _) = nf(&["fit", &bad, "--plot", &tmp("x.gif")]);
-    assert_ne!(code, 0);
+    let (code, _, err) = nf(&["fit", &bad, "--tilt", "first-order"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("reads tilt_x_deg, which the recording does not have"),
+        "{err}"
+    );
+    for cmd in ["fit", "diagnose", "allan"] {
+        let (code, _, err) = nf(&[cmd, &bad, "--plot", &tmp("x.gif")]);
+        assert_eq!(code, 2, "{cmd}");
+        assert!(err.contains("name the plot *.svg or *.png"), "{cmd}: {err}");
+    }
     // Four angles three times: a second harmonic's sine is zero at all of them.
     let mut text =
         String::from("# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n");
@@ -382,7 +392,7 @@ fn fit_of_a_bad_recording_names_the_line() {
     }
     std::fs::write(&bad, text).unwrap();
     let (code, _, err) = nf(&["fit", &bad, "--harmonics", "2"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2);
     assert!(err.contains("do not determine the fit's term sin(2 gamma)"), "{err}");
 }
 

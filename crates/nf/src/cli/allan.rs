@@ -23,7 +23,7 @@ pub struct AllanArgs {
     #[arg(long)]
     json: bool,
     /// Log-log chart: the curve with its intervals, the fit and each term (*.svg or *.png).
-    #[arg(long)]
+    #[arg(long, value_parser = super::plot_file)]
     plot: Option<String>,
     /// Write a self-contained HTML report: the fitted terms, the table, the Allan plot.
     #[arg(long)]
@@ -62,18 +62,7 @@ fn g(x: f64) -> String {
     format!("{x:.*}", (3 - mag).max(0) as usize)
 }
 
-fn check(a: &AllanArgs) -> Result<(), Fail> {
-    if let Some(p) = &a.plot {
-        let lower = p.to_ascii_lowercase();
-        if !(lower.ends_with(".svg") || lower.ends_with(".png")) {
-            return Err(Fail(format!("{p}: name the plot *.svg or *.png"), 2));
-        }
-    }
-    Ok(())
-}
-
 pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
-    check(&a)?;
     let text = crate::textfile::read_text(&a.file).map_err(|e| Fail(e.at(&a.file), 2))?;
     let src = Source::parse(&text, a.sample_rate, a.keep_spikes).map_err(|e| Fail(e.at(&a.file), 2))?;
     // A log the terms cannot be fitted to (one that does not vary) is bad input, as a

@@ -40,7 +40,7 @@ pub struct DiagnoseArgs {
     #[arg(long)]
     json: bool,
     /// Plot the residuals before and after (*.svg or *.png).
-    #[arg(long)]
+    #[arg(long, value_parser = super::plot_file)]
     plot: Option<String>,
     /// Write a self-contained HTML report: the findings, the output, the residual plots.
     #[arg(long)]
@@ -124,7 +124,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
     if let Some(s) = spinner {
         s.finish_and_clear();
     }
-    let d = d.map_err(|e| Fail(format!("{path}: {e}"), 1))?;
+    let d = d.map_err(|e| Fail(format!("{path}: {e}"), 2))?;
     let sim = match &file {
         Some(f) => {
             let so = sim_compare::Options {
@@ -132,7 +132,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
                 alpha: a.alpha,
                 diagnose: opt.clone(),
             };
-            let s = sim_compare::against(&rec, &d, f, &so).map_err(|e| Fail(format!("{path}: {e}"), 1))?;
+            let s = sim_compare::against(&rec, &d, f, &so).map_err(|e| Fail(format!("{path}: {e}"), 2))?;
             for w in &s.warnings {
                 super::note!("nf: warning: {w}");
             }
@@ -309,9 +309,14 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
                 }
             ),
         };
+        let noise = if d.findings.is_empty() {
+            ""
+        } else {
+            "; below, the gyro's noise as measured (not effects)"
+        };
         writeln!(
             out,
-            "no effect is significant (family-wise false-alarm rate {} per step): {agrees}",
+            "no effect is significant (family-wise false-alarm rate {} per step): {agrees}{noise}",
             d.alpha
         )?;
     }

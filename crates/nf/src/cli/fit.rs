@@ -62,7 +62,7 @@ pub struct FitArgs {
     #[arg(long)]
     json: bool,
     /// Plot gyro output, fitted curve and residuals (*.svg or *.png).
-    #[arg(long)]
+    #[arg(long, value_parser = super::plot_file)]
     plot: Option<String>,
     /// Write a self-contained HTML report: the azimuth, the output, the plots.
     #[arg(long)]
@@ -123,7 +123,9 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     if let Some(s) = spinner {
         s.finish_and_clear();
     }
-    let an = an.map_err(|e| Fail(format!("{}: {e}", a.recording), 1))?;
+    // What the recording cannot give (no inclinometer for --tilt exact, too few
+    // distinct angles) is bad input.
+    let an = an.map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;
     if let Some(p) = &a.plot {
         plot::write(p, &fit_panels(&an))?;
     }

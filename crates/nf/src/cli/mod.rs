@@ -73,6 +73,16 @@ pub(crate) fn angle5(deg: f64) -> String {
     }
 }
 
+/// A `--plot` file name: SVG or PNG by its ending, checked before any work.
+fn plot_file(name: &str) -> Result<String, String> {
+    let lower = name.to_ascii_lowercase();
+    if lower.ends_with(".svg") || lower.ends_with(".png") {
+        Ok(name.to_string())
+    } else {
+        Err(format!("{name}: name the plot *.svg or *.png"))
+    }
+}
+
 /// A failure to report: the message and the exit code. Code 0 is not a failure: the reader of
 /// standard output closed it (`nf paper | head`), so the command stops and exits quietly.
 pub(crate) struct Fail(pub String, pub u8);

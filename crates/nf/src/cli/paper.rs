@@ -14,7 +14,7 @@ pub struct PaperArgs {
     #[arg(long)]
     json: bool,
     /// Plot Fig. 6 (Eq. 24) and Fig. 7 (Eq. 30 against the exact model), *.svg or *.png.
-    #[arg(long)]
+    #[arg(long, value_parser = super::plot_file)]
     plot: Option<String>,
 }
 

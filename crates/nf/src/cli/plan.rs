@@ -76,7 +76,7 @@ pub struct PlanArgs {
     #[arg(long)]
     json: bool,
     /// Plot the uncertainty against n (*.svg or *.png).
-    #[arg(long)]
+    #[arg(long, value_parser = super::plot_file)]
     plot: Option<String>,
 }
 

@@ -365,7 +365,7 @@ fn noise_findings(
             ),
             None => (noise.model, noise.terms.clone(), WHITENED_BY),
         };
-        let mut findings = noise::findings(&terms, whence);
+        let mut findings = noise::findings(d, &terms, whence);
         findings.push(s.finding(d));
         return Ok((model, findings));
     }
@@ -388,7 +388,7 @@ fn noise_findings(
         }
         None => (noise.model, noise.terms.clone(), tails),
     };
-    let mut findings = noise::findings(&terms, WHITENED_BY);
+    let mut findings = noise::findings(d, &terms, WHITENED_BY);
     findings.extend(noise::tails_finding(&tails, &rate_resid, opt.alpha / 2.0));
     Ok((model, findings))
 }

@@ -396,15 +396,21 @@ pub(super) const NO_FIT: Summary = Summary {
     sigma_arcsec: f64::NAN,
 };
 
-/// The noise terms as findings, found in the dwell means and quarters by `whence`.
-pub fn findings(terms: &[NoiseTerm], whence: &str) -> Vec<Finding> {
+/// The noise terms as findings, found by `whence` in the dwell means (and the quarter means,
+/// where `d` has them).
+pub fn findings(d: &Data, terms: &[NoiseTerm], whence: &str) -> Vec<Finding> {
+    let seen_in = if d.rec.rows.iter().any(|r| r.quarters_dph.is_some()) {
+        "the dwell means in time order and the quarter means"
+    } else {
+        "the dwell means in time order"
+    };
     terms
         .iter()
         .map(|t| Finding {
             effect: t.kind,
             parameters: t.parameters.clone(),
             p_value: t.p,
-            location: format!("the dwell means in time order and the quarter means: {whence}"),
+            location: format!("{seen_in}: {whence}"),
             after: NO_FIT,
         })
         .collect()
