@@ -104,6 +104,14 @@ fn step_of(spacing: &Spacing, meta_rate: Option<f64>, override_hz: Option<f64>, 
         }
         return 1.0 / hz;
     }
+    // Times rounded to a coarse resolution scatter by it, which `rounding` already says.
+    if spacing.resolution_s == 0.0 && spacing.jitter_s > JITTER_NOTED * spacing.step_s {
+        notes.push(format!(
+            "t_s steps scatter by {} s (robust sd) about {} s: jittered time stamps, the samples read as evenly spaced between gaps",
+            short(spacing.jitter_s),
+            short(spacing.step_s)
+        ));
+    }
     if let Some(hz) = meta_rate.filter(|hz| off(*hz)) {
         notes.push(format!(
             "metadata sample_rate_hz = {hz}, but t_s steps by {} s: the time column is used (--sample-rate overrides)",
@@ -112,6 +120,9 @@ fn step_of(spacing: &Spacing, meta_rate: Option<f64>, override_hz: Option<f64>, 
     }
     spacing.step_s
 }
+
+/// Steps that scatter by more than this share of the step are noted as jittered times.
+const JITTER_NOTED: f64 = 0.01;
 
 /// Gaps listed one by one up to this many; a log with more (jittered times) gets a count.
 const GAPS_LISTED: usize = 10;
@@ -148,6 +159,12 @@ fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> S
     }
     if !log.temp_blank.is_empty() {
         notes.push(blank_cells("temp_c", &log.temp_blank, log.t_s.len(), "samples"));
+    }
+    if !log.comments.is_empty() {
+        notes.push(format!(
+            "'#' lines among the samples (lines {}) are comments: skipped",
+            crate::noise_fit::lines_text(&log.comments)
+        ));
     }
     let found = spikes::find(&log.rate_dph, &log.spacing.segments);
     spike_notes(&found, &log, keep_spikes, &mut notes);

@@ -248,8 +248,20 @@ impl Recording {
             return err(0, "the recording has no positions");
         }
         warnings.extend(blanks.warnings(rows.len()));
+        let comments = head.comment_lines();
+        if let Some(&first) = comments.first() {
+            warnings.push(Error {
+                line: first,
+                what: format!(
+                    "'#' lines among the positions (line{} {}) are comments: skipped, not read as positions",
+                    if comments.len() > 1 { "s" } else { "" },
+                    crate::noise_fit::lines_text(&comments)
+                ),
+            });
+        }
         in_visiting_order(&mut rows, &mut warnings)?;
         quarters_of_their_dwells(&mut rows, &mut warnings);
+        quarters_that_vary(&mut rows, &mut warnings);
         if let Some(d) = dwell_s {
             dwells_apart(&rows, d, head.meta_line("dwell_s"), &mut warnings);
         }
@@ -338,6 +350,27 @@ fn quarters_of_their_dwells(rows: &mut [Row], warnings: &mut Vec<Error>) {
             });
             r.quarters_dph = None;
         }
+    }
+}
+
+/// Quarters equal to one another in every dwell are not the means of a gyro's samples (a
+/// writer that copied the dwell mean into them): read as quarters they would say the gyro has
+/// no short-time noise at all. They are dropped, with one warning.
+fn quarters_that_vary(rows: &mut [Row], warnings: &mut Vec<Error>) {
+    let with: Vec<usize> = (0..rows.len()).filter(|&i| rows[i].quarters_dph.is_some()).collect();
+    let steady = |q: [f64; 4]| q.iter().all(|&v| v == q[0]);
+    if with.len() < 2 || !with.iter().all(|&i| rows[i].quarters_dph.is_some_and(steady)) {
+        return;
+    }
+    warnings.push(Error {
+        line: rows[with[0]].line,
+        what: format!(
+            "q1_dph..q4_dph are equal to one another in all {} dwells that have them: not the means of a gyro's samples (copied from rate_dph?), not used",
+            with.len()
+        ),
+    });
+    for &i in &with {
+        rows[i].quarters_dph = None;
     }
 }
 

@@ -15,6 +15,9 @@ pub const GAP_FACTOR: f64 = 1.5;
 /// times jittered by a third of a step, a long step is the jitter, not a lost sample.
 pub const JITTER_SIGMAS: f64 = 5.0;
 
+/// Steps averaged at a time for the typical step.
+const TYPICAL_SPAN: usize = 8;
+
 /// A jump in time between two samples.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gap {
@@ -30,24 +33,37 @@ pub struct Spacing {
     pub step_s: f64,
     /// The resolution the times were rounded to, where coarser than the step; else 0.
     pub resolution_s: f64,
+    /// Robust scatter of the single steps about the typical one, s.
+    pub jitter_s: f64,
     pub segments: Vec<Range<usize>>,
     pub gaps: Vec<Gap>,
 }
 
 impl Spacing {
     /// Splits increasing times `t_s` (at least two) where a step exceeds `GAP_FACTOR` times the
-    /// median step and the steps' own jitter; `lines` gives each sample's line for the report.
-    /// The step is the mean within the segments: times rounded to the millisecond at 128 Hz
-    /// step by 8 ms mostly, and by 7.8125 ms on average.
+    /// typical step and the steps' own jitter; `lines` gives each sample's line for the report.
+    /// The typical step is the median over [`TYPICAL_SPAN`] steps at a time, which jittered
+    /// times (a host's time stamps, steps of 0.06 s and 0.14 s in turn at 10 Hz) average out
+    /// of, where the median single step would be one of the jitter's values. The step is the
+    /// mean within the segments: times rounded to the millisecond at 128 Hz step by 8 ms
+    /// mostly, and by 7.8125 ms on average.
     pub fn of(t_s: &[f64], lines: &[usize]) -> Spacing {
         let in_order: Vec<f64> = t_s.windows(2).map(|w| w[1] - w[0]).collect();
         let mut steps = in_order.clone();
         steps.sort_by(f64::total_cmp);
         let median = steps[steps.len() / 2];
-        let jitter = crate::stats::robust_sigma(steps.iter().map(|s| s - median));
+        // Short logs keep most of their windows apart from a gap.
+        let k = TYPICAL_SPAN.min(in_order.len() / TYPICAL_SPAN).max(1);
+        let mut spans: Vec<f64> = t_s.windows(k + 1).map(|w| (w[k] - w[0]) / k as f64).collect();
+        spans.sort_by(f64::total_cmp);
+        let typical = spans[spans.len() / 2];
         let resolution = rounding(&steps, &in_order, median);
-        let gap = median
-            + ((GAP_FACTOR - 1.0) * median)
+        // Rounded times step by whole counts, most by the median's: their scatter about the
+        // typical step is the rounding, which the resolution allows for.
+        let centre = if resolution > 0.0 { median } else { typical };
+        let jitter = crate::stats::robust_sigma(steps.iter().map(|s| s - centre));
+        let gap = typical
+            + ((GAP_FACTOR - 1.0) * typical)
                 .max(JITTER_SIGMAS * jitter)
                 .max(GAP_FACTOR * resolution);
         let (mut segments, mut gaps, mut start) = (Vec::new(), Vec::new(), 0);
@@ -73,6 +89,7 @@ impl Spacing {
         Spacing {
             step_s,
             resolution_s: resolution,
+            jitter_s: jitter,
             segments,
             gaps,
         }
@@ -166,6 +183,8 @@ pub struct StaticLog {
     /// The lines whose `temp_c` has no value, when the log has that column.
     pub temp_blank: Vec<usize>,
     pub spacing: Spacing,
+    /// The lines of `#` comments among the samples, skipped.
+    pub comments: Vec<usize>,
 }
 
 impl StaticLog {
@@ -224,6 +243,7 @@ impl StaticLog {
         let spacing = Spacing::of(&t_s, &lines);
         rate_change(&t_s, &lines, spacing.resolution_s)?;
         Ok(StaticLog {
+            comments: head.comment_lines(),
             meta: head.meta,
             t_s,
             rate_dph,
@@ -294,6 +314,25 @@ mod tests {
         assert!((coarse.spacing.step_s - 1.0 / 800.0).abs() < 1e-6);
         let coarse_lost = log_of((0..4000).filter(|&i| i != 1001).map(ms));
         assert_eq!(coarse_lost.spacing.segments, vec![0..1001, 1001..3999]);
+        // 10 Hz stamped 0.04 s late every other sample: steps of 0.06 s and 0.14 s in turn.
+        let alternate = log_of((0..4000).map(|i| i as f64 * 0.1 + if i % 2 == 0 { 0.04 } else { 0.0 }));
+        assert!(
+            alternate.spacing.gaps.is_empty(),
+            "{:?}",
+            alternate.spacing.gaps.first()
+        );
+        assert!(
+            (alternate.spacing.step_s - 0.1).abs() < 1e-4,
+            "{}",
+            alternate.spacing.step_s
+        );
+        assert!((alternate.spacing.jitter_s - 0.04 * 1.4826).abs() < 1e-3);
+        // A pause of a minute among them is still a gap.
+        let paused = log_of(
+            (0..4000)
+                .map(|i| i as f64 * 0.1 + if i % 2 == 0 { 0.04 } else { 0.0 } + if i >= 2500 { 60.0 } else { 0.0 }),
+        );
+        assert_eq!(paused.spacing.segments, vec![0..2500, 2500..4000]);
         // A sample lost from a clean log.
         let lost = log_of((0..4000).filter(|&i| i != 2000).map(|i| i as f64 * 0.01));
         assert_eq!(lost.spacing.segments, vec![0..2000, 2000..3999]);

@@ -53,10 +53,14 @@ pub struct Head<'a> {
     pub header: &'a str,
     pub names: Vec<String>,
     col: BTreeMap<String, usize>,
-    /// Metadata keys given again (the key, the first line and the repeat's), and column names
-    /// given again: harmless unless the reader uses them ([`Head::known`]).
+    /// Metadata keys given again with another value (the key, the first line and the
+    /// repeat's), and column names given again: harmless unless the reader uses them
+    /// ([`Head::known`]). A key repeated with its value says nothing new.
     repeated_meta: Vec<(String, usize, usize)>,
     repeated_cols: Vec<String>,
+    /// The `#` lines after the header (comments to the reader), with the key of those that
+    /// read as `# key = value`.
+    comments: Vec<(usize, Option<String>)>,
 }
 
 impl<'a> Head<'a> {
@@ -76,7 +80,8 @@ impl<'a> Head<'a> {
                 continue;
             }
             let Some(m) = t.strip_prefix('#') else {
-                return Head::header(meta, meta_at, repeated, n, t);
+                let comments = comments_after(text, n);
+                return Head::header(meta, meta_at, repeated, n, t).map(|h| Head { comments, ..h });
             };
             // A bare `#` sets the metadata apart; it says nothing.
             if m.trim().is_empty() {
@@ -94,7 +99,8 @@ impl<'a> Head<'a> {
             }
             match meta_at.get(&k) {
                 // The first stands; whether a repeat matters is the reader's to say.
-                Some(&first) => repeated.push((k, first, n)),
+                Some(&first) if meta.get(&k) != Some(&v) => repeated.push((k, first, n)),
+                Some(_) => {}
                 None => {
                     meta.insert(k.clone(), v);
                     meta_at.insert(k, n);
@@ -134,14 +140,37 @@ impl<'a> Head<'a> {
             col,
             repeated_meta,
             repeated_cols,
+            comments: Vec::new(),
         })
+    }
+
+    /// The lines of the `#` comments among the rows, which the reader skips.
+    pub fn comment_lines(&self) -> Vec<usize> {
+        self.comments.iter().map(|c| c.0).collect()
     }
 
     /// A metadata key or a column the reader uses may be given once only; the others it
     /// ignores, repeated or not.
     pub fn known(&self, keys: &[&str], columns: &[&str]) -> Result<(), Error> {
         if let Some((k, first, n)) = self.repeated_meta.iter().find(|r| keys.contains(&r.0.as_str())) {
-            return err(*n, format!("metadata key '{k}' given twice (first on line {first})"));
+            return err(
+                *n,
+                format!("metadata key '{k}' given twice with different values (first on line {first})"),
+            );
+        }
+        // Read as a comment it would be ignored, and the value before the header used in its
+        // place without a word.
+        if let Some((n, Some(k))) = self
+            .comments
+            .iter()
+            .find(|c| c.1.as_deref().is_some_and(|k| keys.contains(&k)))
+        {
+            return err(
+                *n,
+                format!(
+                    "metadata '{k}' after the header, where '#' lines are comments: metadata goes before the header"
+                ),
+            );
         }
         match self.repeated_cols.iter().find(|c| columns.contains(&c.as_str())) {
             Some(c) => err(self.line, format!("column '{c}' appears twice")),
@@ -275,6 +304,24 @@ impl<'a> Head<'a> {
                 }
             })
     }
+}
+
+/// The `#` lines after the header on line `header`, with the key of each that reads as
+/// `# key = value`.
+fn comments_after(text: &str, header: usize) -> Vec<(usize, Option<String>)> {
+    text.lines()
+        .enumerate()
+        .skip(header)
+        .filter_map(|(i, l)| {
+            let c = l.trim().strip_prefix('#')?;
+            let key = c
+                .split_once('=')
+                .map(|(k, _)| k.trim())
+                .filter(|k| !k.is_empty() && !k.contains(','))
+                .map(str::to_string);
+            Some((i + 1, key))
+        })
+        .collect()
 }
 
 /// The project's CSV dialect: commas, `"` quotes, `#` comment lines, fields trimmed, any
@@ -435,7 +482,33 @@ mod tests {
         assert!(twice.known(&["b"], &["y"]).is_ok(), "repeats the reader ignores");
         assert_eq!(
             twice.known(&["a"], &[]).unwrap_err().to_string(),
-            "line 3: metadata key 'a' given twice (first on line 1)"
+            "line 3: metadata key 'a' given twice with different values (first on line 1)"
+        );
+        let again = Head::parse(
+            "# a = 1
+# a = 1
+x
+",
+        )
+        .unwrap();
+        assert!(again.known(&["a"], &["x"]).is_ok(), "a key repeated with its value");
+        let text = "# a = 1
+x,y
+1,2
+# a = 2
+# 3,4
+5,6
+#
+";
+        let late = Head::parse(text).unwrap();
+        assert_eq!(late.comment_lines(), [4, 5, 7]);
+        assert!(
+            late.known(&["b"], &["x"]).is_ok(),
+            "a comment with a key the reader ignores"
+        );
+        assert_eq!(
+            late.known(&["a"], &[]).unwrap_err().to_string(),
+            "line 4: metadata 'a' after the header, where '#' lines are comments: metadata goes before the header"
         );
         assert_eq!(
             twice.known(&[], &["x"]).unwrap_err().to_string(),

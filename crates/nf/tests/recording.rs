@@ -128,9 +128,9 @@ fn every_bad_recording_names_the_line_and_the_problem() {
         ),
         ("# format = northfinder-recording/1\n# latitude_deg\n", 2, "without '='"),
         (
-            "# format = northfinder-recording/1\n# format = northfinder-recording/1\nindex\n",
+            "# format = northfinder-recording/1\n# format = northfinder-recording/2\nindex\n",
             2,
-            "given twice (first on line 1)",
+            "given twice with different values (first on line 1)",
         ),
         (
             "# format = northfinder-recording/1\n# latitude_deg = 4\nindex,t_s,rate_dph\n0,1,2\n",
@@ -340,7 +340,10 @@ fn repeated_metadata_and_columns_the_reader_does_not_use_are_ignored() {
     let (l, msg) = error(&text.replace("# operator = B", "# latitude_deg = 11"));
     assert_eq!(
         (l, msg.as_str()),
-        (4, "line 4: metadata key 'latitude_deg' given twice (first on line 3)")
+        (
+            4,
+            "line 4: metadata key 'latitude_deg' given twice with different values (first on line 3)"
+        )
     );
 }
 
@@ -418,4 +421,55 @@ fn a_shaft_that_did_not_turn_is_said_plainly() {
     );
     let three = format!("{HEAD}0,1,0,1\n1,2,120,1\n2,3,240.0000001,1\n");
     assert!(Recording::parse(&three).unwrap().require_turning().is_ok());
+}
+
+#[test]
+fn a_hash_line_among_the_positions_is_named_and_late_metadata_refused() {
+    let text = "# format = northfinder-recording/1\n# latitude_deg = 45\nindex,t_s,encoder_deg,rate_dph\n\
+                0,1,0,1\n#1,2,90,0\n2,3,180,-1\n3,4,270,0\n";
+    let r = Recording::parse(text).unwrap();
+    assert_eq!(r.rows.len(), 3);
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.line == 5 && w.what.contains("'#' lines among the positions (line 5)")),
+        "{:?}",
+        r.warnings
+    );
+    let late = text.replace("#1,2,90,0", "# latitude_deg = 10");
+    let (l, msg) = error(&late);
+    assert_eq!(
+        (l, msg.as_str()),
+        (
+            5,
+            "line 5: metadata 'latitude_deg' after the header, where '#' lines are comments: metadata goes before the header"
+        )
+    );
+    let again = text.replace("# latitude_deg = 45\n", "# latitude_deg = 45\n# latitude_deg = 45\n");
+    assert_eq!(Recording::parse(&again).unwrap().latitude_deg, 45.0);
+}
+
+#[test]
+fn quarters_equal_in_every_dwell_are_not_quarters() {
+    let mut text = String::from(
+        "# format = northfinder-recording/1\n# latitude_deg = 45\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n",
+    );
+    for k in 0..6 {
+        let r = 10.0 * (k as f64).cos();
+        text += &format!("{k},{},{},{r},{r},{r},{r},{r}\n", k + 1, 60 * k);
+    }
+    let r = Recording::parse(&text).unwrap();
+    assert!(r.rows.iter().all(|row| row.quarters_dph.is_none()));
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.line == 4 && w.what.contains("equal to one another in all 6 dwells")),
+        "{:?}",
+        r.warnings
+    );
+    // One dwell whose quarters differ: they are quarters, and every row keeps its own.
+    let varied = text.replacen(",1,0,10,10,10,10,10\n", ",1,0,10,9.9,10.1,10,10\n", 1);
+    assert_ne!(varied, text);
+    let r = Recording::parse(&varied).unwrap();
+    assert!(r.rows.iter().all(|row| row.quarters_dph.is_some()), "{:?}", r.warnings);
 }
