@@ -1,8 +1,9 @@
 //! The static-log reader on any text: no panic; times strictly increase; the segments cover
-//! the samples in order, split exactly where a step exceeds the median step by `GAP_FACTOR`
-//! times it, by `JITTER_SIGMAS` robust sigmas of the steps and, for times written coarser than
-//! the step, by `GAP_FACTOR` counts of their resolution; the step is the mean within the
-//! segments; and printing the log back in the format and reading it again gives the same log.
+//! the samples in order, split exactly where a step exceeds the typical step (the median of
+//! the mean steps over eight at a time, fewer in a short log) by `GAP_FACTOR` times it, by
+//! `JITTER_SIGMAS` robust sigmas of the steps and, for times written coarser than the step,
+//! by `GAP_FACTOR` counts of their resolution; the step is the mean within the segments; and
+//! printing the log back in the format and reading it again gives the same log.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -41,7 +42,8 @@ fuzz_target!(|data: &[u8]| {
         v[v.len() / 2]
     };
     let m = median(steps.clone());
-    let jitter = 1.4826 * median(steps.iter().map(|s| (s - m).abs()).collect());
+    let k = (steps.len() / 8).clamp(1, 8);
+    let typical = median(log.t_s.windows(k + 1).map(|w| (w[k] - w[0]) / k as f64).collect());
     // Times written coarser than the step step by whole counts: the smallest step above the
     // median, when it is one count above it (at most the median) and at least three steps and a
     // twentieth of them lie within half a count of it, allows GAP_FACTOR counts more.
@@ -54,8 +56,12 @@ fuzz_target!(|data: &[u8]| {
     let near = steps.iter().filter(|&&s| (s - above).abs() < count / 2.0).count();
     let coarse = above.is_finite() && count <= m * (1.0 + 1e-6) && near >= 3 && near * 20 >= steps.len();
     let resolution = if coarse { count } else { 0.0 };
-    let threshold = m
-        + ((GAP_FACTOR - 1.0) * m)
+    // Rounded times scatter about the median step by whole counts; jittered ones about the
+    // typical step.
+    let centre = if coarse { m } else { typical };
+    let jitter = 1.4826 * median(steps.iter().map(|s| (s - centre).abs()).collect());
+    let threshold = typical
+        + ((GAP_FACTOR - 1.0) * typical)
             .max(JITTER_SIGMAS * jitter)
             .max(GAP_FACTOR * resolution);
     // The step: the mean step within the segments of two samples or more.
