@@ -455,3 +455,27 @@ fn a_curved_drift_named_as_a_line_leaves_its_curve_in_the_sigma() {
     }
     assert!(beyond <= 2, "{beyond} of 20 beyond 3 sigma");
 }
+
+#[test]
+fn with_nothing_named_the_baseline_has_the_final_sigma() {
+    // Both come from the noise estimated with Eq. 7's columns, over the models the recording
+    // allows, calibrated by replicates (before, the baseline's was the plain GLS sigma under
+    // the tests' noise: up to 5 times smaller on Gauss-Markov recordings).
+    let mut compared = 0;
+    for seed in 1..=6 {
+        let mut twin = quiet_twin(seed);
+        twin.noise.bias_instability_dph = 0.004;
+        let d = diagnose(&recording(&twin), &Options::default()).unwrap();
+        if d.findings.iter().any(|f| !f.effect.is_noise()) {
+            continue;
+        }
+        compared += 1;
+        let ratio = d.baseline.sigma_arcsec / d.final_.sigma_arcsec;
+        println!(
+            "seed {seed}: baseline {:.1}\" final {:.1}\"",
+            d.baseline.sigma_arcsec, d.final_.sigma_arcsec
+        );
+        assert!((ratio - 1.0).abs() < 0.1, "seed {seed}: ratio {ratio}");
+    }
+    assert!(compared >= 4, "{compared}");
+}

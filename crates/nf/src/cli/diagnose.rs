@@ -33,8 +33,9 @@ pub struct DiagnoseArgs {
     /// Family-wise false-alarm rate of each selection step.
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.05, value_parser = above(0.0, 0.5))]
     alpha: f64,
-    /// Bootstrap replicates that calibrate the final sigma under a noise model estimated
-    /// from the recording, up to 2000 positions (0: none; each costs one more noise estimate).
+    /// Bootstrap replicates that calibrate the final sigma and the baseline's under a noise
+    /// model estimated from the recording, up to 2000 positions (0: none; each costs one more
+    /// noise estimate).
     #[arg(long, allow_hyphen_values = true, default_value_t = noise_calib::REPLICATES, value_parser = clap::value_parser!(u16).range(0..=1000))]
     replicates: u16,
     #[arg(long)]
