@@ -484,22 +484,9 @@ mod tests {
             twice.known(&["a"], &[]).unwrap_err().to_string(),
             "line 3: metadata key 'a' given twice with different values (first on line 1)"
         );
-        let again = Head::parse(
-            "# a = 1
-# a = 1
-x
-",
-        )
-        .unwrap();
+        let again = Head::parse("# a = 1\n# a = 1\nx\n").unwrap();
         assert!(again.known(&["a"], &["x"]).is_ok(), "a key repeated with its value");
-        let text = "# a = 1
-x,y
-1,2
-# a = 2
-# 3,4
-5,6
-#
-";
+        let text = "# a = 1\nx,y\n1,2\n# a = 2\n# 3,4\n5,6\n#\n";
         let late = Head::parse(text).unwrap();
         assert_eq!(late.comment_lines(), [4, 5, 7]);
         assert!(
