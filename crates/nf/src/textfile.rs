@@ -80,8 +80,7 @@ impl<'a> Head<'a> {
                 continue;
             }
             let Some(m) = t.strip_prefix('#') else {
-                let comments = comments_after(text, n);
-                return Head::header(meta, meta_at, repeated, n, t).map(|h| Head { comments, ..h });
+                return Head::header(meta, meta_at, repeated, n, t, comments_after(text, n));
             };
             // A bare `#` sets the metadata apart; it says nothing.
             if m.trim().is_empty() {
@@ -116,6 +115,7 @@ impl<'a> Head<'a> {
         repeated_meta: Vec<(String, usize, usize)>,
         line: usize,
         header: &'a str,
+        comments: Vec<(usize, Option<String>)>,
     ) -> Result<Head<'a>, Error> {
         let names: Vec<String> = match reader(header.as_bytes()).records().next() {
             Some(Ok(r)) => r.iter().map(String::from).collect(),
@@ -140,7 +140,7 @@ impl<'a> Head<'a> {
             col,
             repeated_meta,
             repeated_cols,
-            comments: Vec::new(),
+            comments,
         })
     }
 

@@ -338,9 +338,12 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
             None => own.as_ref().and_then(|o| o.calibration).map(|c| c.psi),
         },
         noise_estimated: opt.noise == NoiseChoice::Estimate,
-        baseline: Summary {
-            sigma_arcsec: baseline_sigma.unwrap_or(summary(&base).sigma_arcsec),
-            ..summary(&base)
+        baseline: {
+            let plain = summary(&base);
+            Summary {
+                sigma_arcsec: baseline_sigma.unwrap_or(plain.sigma_arcsec),
+                ..plain
+            }
         },
         findings,
         undecided: sel.undecided,
