@@ -38,6 +38,9 @@ pub struct Data<'a> {
 pub struct Candidate {
     pub model: NoiseModel,
     pub loglik: f64,
+    /// The full likelihood, the coefficients at their best rather than integrated out (its
+    /// white level profiled apart): unlike the restricted one, comparable between designs.
+    pub full_loglik: f64,
     /// The fit's coefficients and their covariance under this model.
     pub coef: Vec<f64>,
     pub cov: Vec<Vec<f64>>,
@@ -268,10 +271,18 @@ impl<'a> Problem<'a> {
             quad: g.chi2,
             count: g.dof,
         };
-        let (loglik, w) = dwells.plus(self.quarters.part(&m)?).profiled()?;
+        let quarters = self.quarters.part(&m)?;
+        let (loglik, w) = dwells.plus(quarters).profiled()?;
+        let full = Part {
+            log_det: cov.log_det(),
+            quad: g.chi2,
+            count: d.y.len(),
+        };
+        let (full_loglik, _) = full.plus(quarters).profiled()?;
         Some(Candidate {
             model: scaled(&m, w),
             loglik,
+            full_loglik,
             coef: g.coef,
             cov: g.cov.iter().map(|r| r.iter().map(|v| v * w).collect()).collect(),
         })
