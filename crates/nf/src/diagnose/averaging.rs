@@ -6,6 +6,7 @@
 use super::kind::Kind;
 use super::model::{Model, Summary, summary};
 use crate::linfit::Ls;
+use crate::noise_calib::Verdict;
 use nf_model::angle::{wrap_180, wrap_360};
 
 /// A model the selection met: the chain of named effects, or an alternative to a step.
@@ -68,4 +69,26 @@ pub fn average(variants: &[Variant]) -> Option<(Summary, Vec<Weighted>)> {
         sigma_arcsec: var.sqrt() * 3600.0,
     };
     Some((s, out))
+}
+
+/// The models met as weighed and fitted under the noise estimated with their own columns
+/// (`final_sigma`, in the order of `variants`), with their whitened RSS under the tests' noise.
+pub fn under_own_noise(variants: &[Variant], judged: &[Option<(f64, Verdict)>]) -> Vec<Weighted> {
+    variants
+        .iter()
+        .zip(judged)
+        .filter_map(|(v, j)| {
+            let (weight, verdict) = (*j)?;
+            Some(Weighted {
+                label: v.label.clone(),
+                weight,
+                summary: Summary {
+                    azimuth_deg: wrap_360(verdict.psi_deg),
+                    rss: v.model.fit()?.rss,
+                    sigma_arcsec: verdict.sigma_psi_deg * 3600.0,
+                },
+                rival: v.rival,
+            })
+        })
+        .collect()
 }

@@ -1,24 +1,40 @@
-//! The final azimuth's sigma under the noise. The tests' noise is estimated with harmonics
-//! 2-4 and the temperature in its design, so that they are not taken for noise; in a sweep
-//! those harmonics are where a random walk shows most, and the final model, which has not
-//! got them, would be given too little wander. So the final sigma comes from the noise
-//! estimated under the final model's own columns, averaged over the flicker-and-walk models
-//! it allows, and scaled by replicates drawn from its supported model (as `nf fit` does).
-//! On 1000 clean random-walk recordings of the suite the finals beyond 3 sigma went from 37
-//! to 17 (docs/diagnose.md, item 5).
+//! The final azimuth and its sigma under the noise, averaged over the models the selection
+//! met, each under the noise estimated with its own columns.
+//!
+//! The tests' noise is estimated with harmonics 2-4 and the temperature in its design, so
+//! that they are not taken for noise; in a sweep those harmonics are where a random walk
+//! shows most, and a model without them would be given too little wander. So each model's
+//! noise is estimated with its own columns, averaged over the flicker-and-walk models it
+//! allows. A false effect that takes up the run's wander leaves its own model's noise white
+//! and its sigma small; Eq. 7 beside it keeps the wander as noise, and it explains the
+//! recording about as well. So the models are weighed by their full likelihood under their
+//! own noise (marginal over the noise models, less half a log n per parameter) and the
+//! spread between them is in the sigma. The sigmas are scaled by replicates drawn from the
+//! most likely model (as `nf fit` does).
 
 use super::data::Data;
 use super::noise::{dwell_and_quarters, plausible_candidates, with_bursts_held_out};
 use crate::noise_calib::{self, Calibration, Verdict};
-use crate::noise_est::{self, Colours, THINNED};
+use crate::noise_est::{self, Colours, THINNED, Term};
 use crate::noise_fit::azimuth;
 use nf_model::angle::wrap_180;
 
-/// The sigma of the final model's azimuth and amplitude, and the calibration behind it.
+/// One model the selection met: its columns (Eq. 7's first), the rates it explains, and the
+/// parameters a scan chose beside its columns.
+pub struct Met<'a> {
+    pub cols: Vec<Vec<f64>>,
+    pub y: &'a [f64],
+    pub scanned: usize,
+}
+
+/// The final verdict under the noise, and the calibration behind its sigma.
 pub struct FinalSigma {
     pub verdict: Verdict,
-    /// `None` when the supported model is white (its replicates would not scale it).
+    /// `None` when the most likely model's noise is white (its replicates would not scale it).
     pub calibration: Option<Calibration>,
+    /// Each model's weight and calibrated verdict, in the order given; `None` where its
+    /// noise could not be estimated.
+    pub models: Vec<Option<(f64, Verdict)>>,
 }
 
 impl FinalSigma {
@@ -26,44 +42,111 @@ impl FinalSigma {
     pub fn describe(&self) -> String {
         let scaled = self.calibration.map_or(String::new(), |c| {
             format!(
-                ", scaled by {:.2} as {} replicates drawn from it showed",
+                ", scaled by {:.2} as {} replicates drawn from the most likely showed",
                 c.psi, c.replicates
             )
         });
-        format!("under the noise estimated with the final model's columns{scaled}")
+        let models = match self.models.iter().flatten().count() {
+            1 => "the model's own columns".to_string(),
+            k => format!("each model's own columns ({k} models met, weighed by their evidence)"),
+        };
+        format!("under the noise estimated with {models}{scaled}")
     }
 }
 
-/// The sigma of a fit of `y` to `cols` (Eq. 7's columns first) under the noise estimated
-/// with them. `None` when the noise was thinned for its estimate (it is then known well) or
-/// cannot be estimated.
-pub fn final_sigma(d: &Data, cols: &[Vec<f64>], y: &[f64], replicates: usize) -> Option<FinalSigma> {
-    if d.n() > THINNED {
+/// One model's verdict averaged over its noise models, and its evidence.
+struct Judged {
+    verdict: Verdict,
+    log_evidence: f64,
+    estimate: noise_est::Estimate,
+}
+
+/// The verdict averaged over `met` under their own noise. `None` when the noise was thinned
+/// for its estimate (it is then known well) or cannot be estimated.
+pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSigma> {
+    if d.n() > THINNED || met.is_empty() {
         return None;
     }
-    let design = with_bursts_held_out(d, cols, y);
     let (dwell_s, quarters) = dwell_and_quarters(d);
-    let data = noise_est::Data {
+    let designs: Vec<Vec<Vec<f64>>> = met.iter().map(|m| with_bursts_held_out(d, &m.cols, m.y)).collect();
+    let base = noise_est::Data {
         t_s: &d.t,
         dwell_s,
-        cols: &design,
-        y,
+        cols: &designs[0],
+        y: met[0].y,
         quarters: &quarters,
         extra: None,
     };
-    let e = noise_est::estimate(data.clone(), Colours::FlickerAndWalk)?;
-    let verdict = averaged(&e)?;
-    let (supported, _) = e.supported();
+    let data = |k: usize| noise_est::Data {
+        cols: &designs[k],
+        y: met[k].y,
+        ..base.clone()
+    };
+    let mut judged: Vec<Option<Judged>> = (0..met.len()).map(|_| None).collect();
+    // The models that explain the same rates share their noise models' factors.
+    let mut done = vec![false; met.len()];
+    for i in 0..met.len() {
+        if done[i] {
+            continue;
+        }
+        let group: Vec<usize> = (i..met.len()).filter(|&k| met[k].y == met[i].y).collect();
+        let more: Vec<&[Vec<f64>]> = group[1..].iter().map(|&k| designs[k].as_slice()).collect();
+        let estimates = noise_est::estimate_all(data(i), &more, Colours::FlickerAndWalk);
+        for (&k, e) in group.iter().zip(estimates) {
+            done[k] = true;
+            judged[k] = e.and_then(|e| judge(e, designs[k].len() + met[k].scanned, d.n()));
+        }
+    }
+    let top = (0..met.len())
+        .filter_map(|k| Some((k, judged[k].as_ref()?.log_evidence)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))?
+        .0;
+    let lead = judged[top].as_ref()?;
+    let weights: Vec<f64> = judged
+        .iter()
+        .map(|j| j.as_ref().map_or(0.0, |j| (j.log_evidence - lead.log_evidence).exp()))
+        .collect();
+    let total: f64 = weights.iter().sum();
+    let weights: Vec<f64> = weights.iter().map(|w| w / total).collect();
+    let (supported, _) = lead.estimate.supported();
     let calibration = if supported.model.is_coloured() {
         let truth = azimuth(&supported.coef, &supported.cov);
-        let judge = |r: noise_est::Data<'_>| noise_est::estimate(r, Colours::FlickerAndWalk).and_then(|e| averaged(&e));
-        noise_calib::calibrate(&data, &supported.model, &supported.coef, &truth, replicates, judge)
+        let refit = |r: noise_est::Data<'_>| noise_est::estimate(r, Colours::FlickerAndWalk).and_then(|e| averaged(&e));
+        let lead_data = data(top);
+        noise_calib::calibrate(&lead_data, &supported.model, &supported.coef, &truth, replicates, refit)
     } else {
         None
     };
+    let models: Vec<Option<(f64, Verdict)>> = weights
+        .iter()
+        .zip(&judged)
+        .map(|(w, j)| Some((*w, j.as_ref()?.verdict.calibrated(calibration))))
+        .collect();
+    let weighted: Vec<(f64, Verdict)> = models.iter().flatten().copied().collect();
     Some(FinalSigma {
-        verdict: verdict.calibrated(calibration),
+        verdict: mixed(&weighted, lead.verdict.psi_deg)?,
         calibration,
+        models,
+    })
+}
+
+/// A model's verdict over its noise models and its evidence: the full likelihood summed over
+/// the grid's flicker-and-walk models (each the same prior weight) less half a log n for
+/// each of its `params` (columns and scanned parameters).
+fn judge(estimate: noise_est::Estimate, params: usize, n: usize) -> Option<Judged> {
+    let likelihoods: Vec<f64> = estimate
+        .grid
+        .iter()
+        .filter(|c| Term::GaussMarkov.absent(&c.model))
+        .map(|c| c.full_loglik)
+        .collect();
+    let top = likelihoods.iter().copied().fold(f64::MIN, f64::max);
+    let marginal = top + likelihoods.iter().map(|l| (l - top).exp()).sum::<f64>().ln();
+    let penalty = 0.5 * params as f64 * (n as f64).ln();
+    Some(Judged {
+        verdict: averaged(&estimate)?,
+        log_evidence: marginal - penalty,
+        estimate,
     })
 }
 
@@ -74,16 +157,102 @@ fn averaged(e: &noise_est::Estimate) -> Option<Verdict> {
         .into_iter()
         .map(|(w, c)| (w, azimuth(&c.coef, &c.cov)))
         .collect();
-    let first = fits.first()?.1;
+    let first = fits.first()?.1.psi_deg;
+    mixed(&fits, first)
+}
+
+/// The mixture of weighted verdicts (weights summing to one): the mean and the variance
+/// within and between them, the azimuths taken about `about`.
+fn mixed(fits: &[(f64, Verdict)], about: f64) -> Option<Verdict> {
+    if fits.is_empty() {
+        return None;
+    }
     let mean = |f: &dyn Fn(&Verdict) -> f64| fits.iter().map(|(w, v)| w * f(v)).sum::<f64>();
-    let shift = mean(&|v| wrap_180(v.psi_deg - first.psi_deg));
+    let shift = mean(&|v| wrap_180(v.psi_deg - about));
     let amplitude = mean(&|v| v.amplitude_dph);
-    let var_psi = mean(&|v| v.sigma_psi_deg.powi(2) + (wrap_180(v.psi_deg - first.psi_deg) - shift).powi(2));
+    let var_psi = mean(&|v| v.sigma_psi_deg.powi(2) + (wrap_180(v.psi_deg - about) - shift).powi(2));
     let var_amp = mean(&|v| v.sigma_amplitude_dph.powi(2) + (v.amplitude_dph - amplitude).powi(2));
     Some(Verdict {
-        psi_deg: first.psi_deg + shift,
+        psi_deg: about + shift,
         sigma_psi_deg: var_psi.sqrt(),
         amplitude_dph: amplitude,
         sigma_amplitude_dph: var_amp.sqrt(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recording::Recording;
+    use nf_model::rng::Rng;
+
+    /// 48 positions of a sweep, white noise of 0.003 deg/h per dwell mean, and a step of
+    /// `step` deg/h from the 20th dwell on.
+    fn sweep(seed: u64, step: f64) -> Data {
+        let mut rng = Rng::new(seed);
+        let mut text =
+            String::from("# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n");
+        for i in 0..48 {
+            let g = (7.5 * i as f64).to_radians();
+            let rate = 0.3 + 0.008 * g.cos() - 0.007 * g.sin() + 0.003 * rng.gauss() + if i >= 20 { step } else { 0.0 };
+            text += &format!("{i},{},{},{rate}\n", 2.0 * i as f64, 7.5 * i as f64);
+        }
+        Data::new(&Recording::parse(&text).unwrap())
+    }
+
+    /// Eq. 7 and Eq. 7 with the step column, its place counted as scanned.
+    fn weights(d: &Data) -> Vec<f64> {
+        let step: Vec<f64> = (0..d.n()).map(|i| f64::from(u8::from(i >= 20))).collect();
+        let mut with_step = d.base_cols();
+        with_step.push(step);
+        let met = [
+            Met {
+                cols: d.base_cols(),
+                y: &d.rate,
+                scanned: 0,
+            },
+            Met {
+                cols: with_step,
+                y: &d.rate,
+                scanned: 1,
+            },
+        ];
+        let f = final_verdict(d, &met, 0).unwrap();
+        f.models.iter().map(|m| m.unwrap().0).collect()
+    }
+
+    #[test]
+    fn a_step_that_is_there_takes_the_weight_and_one_that_is_not_little() {
+        let mut without = Vec::new();
+        for seed in 1..=10 {
+            let w = weights(&sweep(seed, 0.03));
+            assert!(w[1] > 0.99, "seed {seed}: a 10-sigma step weighs {}", w[1]);
+            without.push(weights(&sweep(seed, 0.0))[1]);
+        }
+        // Two parameters cost a factor 48 in evidence; a column of noise gains about e^0.5.
+        let mean = without.iter().sum::<f64>() / without.len() as f64;
+        assert!(
+            mean < 0.15,
+            "a step that is not there weighs {mean} on average: {without:?}"
+        );
+    }
+
+    #[test]
+    fn a_mixture_holds_the_spread_between_its_members() {
+        let v = |psi_deg: f64, sigma_psi_deg: f64, amplitude_dph: f64| Verdict {
+            psi_deg,
+            sigma_psi_deg,
+            amplitude_dph,
+            sigma_amplitude_dph: 0.001,
+        };
+        let m = mixed(&[(0.75, v(359.99, 0.01, 0.010)), (0.25, v(0.03, 0.02, 0.014))], 359.99).unwrap();
+        // Shifts 0 and 0.04 deg about 359.99: mean 0.01; variances 0.75 1e-4 + 0.25 4e-4 plus
+        // 0.75 0.01^2 + 0.25 0.03^2.
+        assert!((wrap_180(m.psi_deg - 0.0)).abs() < 1e-12, "{}", m.psi_deg);
+        let var: f64 = 0.75e-4 + 1e-4 + 0.75e-4 + 2.25e-4;
+        assert!((m.sigma_psi_deg - var.sqrt()).abs() < 1e-12, "{}", m.sigma_psi_deg);
+        assert!((m.amplitude_dph - 0.011).abs() < 1e-12);
+        let var_amp: f64 = 1e-6 + 0.75 * 1e-6 + 0.25 * 9e-6;
+        assert!((m.sigma_amplitude_dph - var_amp.sqrt()).abs() < 1e-12);
+    }
 }

@@ -221,10 +221,26 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
     let final_cols: Vec<Vec<f64>> = sel.model.cols.iter().map(|c| c.raw.clone()).collect();
     let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise, opt.replicates);
-    // Through shocks the sigma is the shocks' fit's; else the noise's with the final columns.
+    // Through shocks the result is the shocks' fit's; else each model met is weighed and
+    // fitted under the noise estimated with its own columns.
     let own = match (&opt.noise, &shocks) {
-        (NoiseChoice::Estimate, None) => final_sigma::final_sigma(&d, &final_cols, &sel.model.y, opt.replicates),
+        (NoiseChoice::Estimate, None) => {
+            let met: Vec<final_sigma::Met> = sel
+                .variants
+                .iter()
+                .map(|v| final_sigma::Met {
+                    cols: v.model.cols.iter().map(|c| c.raw.clone()).collect(),
+                    y: &v.model.y,
+                    scanned: v.scanned,
+                })
+                .collect();
+            final_sigma::final_verdict(&d, &met, opt.replicates)
+        }
         _ => None,
+    };
+    let models = match &own {
+        Some(o) => averaging::under_own_noise(&sel.variants, &o.models),
+        None => models,
     };
     let mut final_ = noise_averaged(
         averaged,
@@ -239,11 +255,17 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     // Its plain GLS sigma under the tests' noise was up to 5 times smaller than `nf fit`'s on
     // Gauss-Markov recordings, which made a finding look far from it.
     let baseline_sigma = match (&opt.noise, &shocks) {
-        (NoiseChoice::Estimate, None) if final_cols.len() == 3 && tilt_fitted.iter().all(|c| *c == 0.0) => {
+        (NoiseChoice::Estimate, None) if sel.variants.len() == 1 && sel.model.y == d.rate => {
             own.as_ref().map(|o| o.verdict.sigma_psi_deg * 3600.0)
         }
-        (NoiseChoice::Estimate, None) => final_sigma::final_sigma(&d, &d.base_cols(), &d.rate, opt.replicates)
-            .map(|o| o.verdict.sigma_psi_deg * 3600.0),
+        (NoiseChoice::Estimate, None) => {
+            let base = final_sigma::Met {
+                cols: d.base_cols(),
+                y: &d.rate,
+                scanned: 0,
+            };
+            final_sigma::final_verdict(&d, &[base], opt.replicates).map(|o| o.verdict.sigma_psi_deg * 3600.0)
+        }
         _ => None,
     };
     let s2 = sel.fit.s2();
@@ -429,11 +451,12 @@ fn measured_tails(d: &Data, design: Vec<Vec<f64>>, y: &[f64], w: &Whitener) -> (
     (tails, model.raw_residuals(&f))
 }
 
-/// The averaged result with the noise model's own uncertainty added: the selected model is
-/// fitted under every noise model the recording allows and averaged by their likelihoods
-/// (as `nf fit` does), and the spread the model averaging added is kept on top. The sigma
-/// under the noise is `own`'s where there is one. Through shocks, the selected model's
-/// azimuth and sigma are those of its fit through them instead.
+/// The result. Where each model met was weighed and fitted under its own noise (`own`),
+/// theirs. Through shocks, the selected model's azimuth and sigma are those of its fit
+/// through them (as `nf fit`'s). Else (the noise given, or thinned) the averaged result with
+/// the noise model's own uncertainty added: the selected model is fitted under every noise
+/// model the recording allows and averaged by their likelihoods, and the spread the model
+/// averaging added is kept on top.
 fn noise_averaged(
     averaged: Summary,
     selected: &Model,
@@ -442,9 +465,14 @@ fn noise_averaged(
     own: Option<&final_sigma::FinalSigma>,
     shocks: Option<&noise_calib::Verdict>,
 ) -> Summary {
+    if let Some(o) = own {
+        return Summary {
+            azimuth_deg: nf_model::angle::wrap_360(o.verdict.psi_deg),
+            sigma_arcsec: o.verdict.sigma_psi_deg * 3600.0,
+            ..averaged
+        };
+    }
     let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
-    // Through shocks the selected model's azimuth and sigma are the shocks' fit's (as `nf
-    // fit`'s).
     if let Some(v) = shocks {
         let moved = nf_model::angle::wrap_180(v.psi_deg - main.azimuth_deg);
         return Summary {
@@ -467,15 +495,11 @@ fn noise_averaged(
     }
     let shift = |s: &Summary| nf_model::angle::wrap_180(s.azimuth_deg - main.azimuth_deg) * 3600.0;
     let mean = fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total;
-    let var = match own {
-        Some(o) => (o.verdict.sigma_psi_deg * 3600.0).powi(2),
-        None => {
-            fits.iter()
-                .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
-                .sum::<f64>()
-                / total
-        }
-    };
+    let var = fits
+        .iter()
+        .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
+        .sum::<f64>()
+        / total;
     Summary {
         azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + mean / 3600.0),
         sigma_arcsec: (var + model_spread).sqrt(),
