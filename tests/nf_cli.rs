@@ -470,10 +470,14 @@ fn an_earth_rate_not_resolved_gives_no_azimuth_in_fit_or_diagnose() {
     let wrong_lat = written("wrong_lat.csv", 84.0, |_| 0.0);
     let clean = written("clean.csv", 40.0, |k| 0.01 * ((k as f64 * 0.618_034).fract() - 0.5));
     for (file, why) in [(&hidden, "uncertainty"), (&wrong_lat, "times the Earth rate")] {
-        let (code, out, err) = nf(&["fit", file]);
+        let svg = tmp("unresolved.svg");
+        let (code, out, err) = nf(&["fit", file, "--plot", &svg]);
         assert_eq!(code, 0, "{err}");
         assert!(out.contains("NOT RESOLVED") && out.contains(why), "{out}");
         assert!(!out.lines().any(|l| l.starts_with("azimuth psi")), "{out}");
+        // The plot's title gives no azimuth either.
+        let drawn = std::fs::read_to_string(&svg).unwrap();
+        assert!(drawn.contains("NOT RESOLVED") && !drawn.contains("psi ="), "{why}");
         let (_, out, _) = nf(&["fit", file, "--json"]);
         let j: serde_json::Value = serde_json::from_str(&out).unwrap();
         assert_eq!(j["earth_rate_resolved"], false);

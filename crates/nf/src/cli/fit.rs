@@ -338,7 +338,13 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
         .collect();
     vec![
         Panel {
-            title: format!("gyro output, psi = {:.4} deg{not_drawn}", an.fit.psi_deg),
+            title: match an.gls.unresolved(an.amplitude_predicted_dph) {
+                Some(_) => format!("gyro output: the Earth rate is NOT RESOLVED, no azimuth{not_drawn}"),
+                None => format!(
+                    "gyro output and its least-squares fit, psi = {:.4} deg{not_drawn}",
+                    an.fit.psi_deg
+                ),
+            },
             x_label: "encoder angle gamma (deg)".into(),
             y_label: "rate (deg/h)".into(),
             series: vec![
