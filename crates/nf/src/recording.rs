@@ -261,7 +261,9 @@ impl Recording {
         }
         in_visiting_order(&mut rows, &mut warnings)?;
         quarters_of_their_dwells(&mut rows, &mut warnings);
+        quarters_of_few_samples(&mut rows, &mut warnings);
         quarters_that_vary(&mut rows, &mut warnings);
+        sample_spread_of_none(&rows, &mut warnings);
         if let Some(d) = dwell_s {
             dwells_apart(&rows, d, head.meta_line("dwell_s"), &mut warnings);
         }
@@ -371,6 +373,46 @@ fn quarters_that_vary(rows: &mut [Row], warnings: &mut Vec<Error>) {
     });
     for &i in &with {
         rows[i].quarters_dph = None;
+    }
+}
+
+/// Quarters of a dwell of fewer than four samples are not the means of a quarter of its
+/// samples each (one quarter at least holds none): read as quarters they would show a
+/// short-time noise of any size. They are dropped, with one warning naming the first line.
+fn quarters_of_few_samples(rows: &mut [Row], warnings: &mut Vec<Error>) {
+    let few: Vec<usize> = (0..rows.len())
+        .filter(|&i| rows[i].quarters_dph.is_some() && rows[i].samples.is_some_and(|s| s < 4))
+        .collect();
+    let Some(&first) = few.first() else { return };
+    warnings.push(Error {
+        line: rows[first].line,
+        what: format!(
+            "q1_dph..q4_dph given for {} dwell(s) of fewer than 4 samples (samples {}): a quarter of such a dwell holds no sample of its own, not used",
+            few.len(),
+            rows[first].samples.unwrap_or(0)
+        ),
+    });
+    for &i in &few {
+        rows[i].quarters_dph = None;
+    }
+}
+
+/// A spread of exactly zero over more than one sample says the samples were all equal, which a
+/// gyro's are not (or that the writer put 0 for a value it did not have): said once, the values
+/// used as given.
+fn sample_spread_of_none(rows: &[Row], warnings: &mut Vec<Error>) {
+    let zero: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.rate_sd_dph == Some(0.0) && r.samples.is_some_and(|s| s > 1))
+        .collect();
+    if let Some(first) = zero.first() {
+        warnings.push(Error {
+            line: first.line,
+            what: format!(
+                "rate_sd_dph is 0 in {} dwell(s) of more than one sample: their samples all equal, or no spread was written; used as given",
+                zero.len()
+            ),
+        });
     }
 }
 

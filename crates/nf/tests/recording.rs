@@ -473,3 +473,66 @@ fn quarters_equal_in_every_dwell_are_not_quarters() {
     let r = Recording::parse(&varied).unwrap();
     assert!(r.rows.iter().all(|row| row.quarters_dph.is_some()), "{:?}", r.warnings);
 }
+
+#[test]
+fn quarters_of_fewer_than_four_samples_are_not_quarters() {
+    // Six dwells of 100 samples with quarters, the third of `few` samples.
+    let text = |few: u32| {
+        let mut text = String::from(
+            "# format = northfinder-recording/1\n# latitude_deg = 45\nindex,t_s,encoder_deg,rate_dph,samples,q1_dph,q2_dph,q3_dph,q4_dph\n",
+        );
+        for k in 0..6 {
+            let r = 10.0 * (k as f64).cos();
+            let samples = if k == 2 { few } else { 100 };
+            text += &format!(
+                "{k},{},{},{r},{samples},{},{},{r},{r}\n",
+                k + 1,
+                60 * k,
+                r - 0.01,
+                r + 0.01
+            );
+        }
+        text
+    };
+    let r = Recording::parse(&text(3)).unwrap();
+    let kept: Vec<bool> = r.rows.iter().map(|row| row.quarters_dph.is_some()).collect();
+    assert_eq!(kept, [true, true, false, true, true, true]);
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.line == 6 && w.what.contains("1 dwell(s) of fewer than 4 samples (samples 3)")),
+        "{:?}",
+        r.warnings
+    );
+    let r = Recording::parse(&text(4)).unwrap();
+    assert!(r.rows.iter().all(|row| row.quarters_dph.is_some()), "{:?}", r.warnings);
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+}
+
+#[test]
+fn a_sample_spread_of_zero_over_many_samples_is_said() {
+    let mut text = String::from(
+        "# format = northfinder-recording/1\n# latitude_deg = 45\nindex,t_s,encoder_deg,rate_dph,rate_sd_dph,samples\n",
+    );
+    for k in 0..6 {
+        let (sd, samples) = match k {
+            3 | 4 => (0.0, 100),
+            5 => (0.0, 1),
+            _ => (0.2, 100),
+        };
+        text += &format!("{k},{},{},{},{sd},{samples}\n", k + 1, 60 * k, 10.0 * (k as f64).cos());
+    }
+    let r = Recording::parse(&text).unwrap();
+    let said: Vec<_> = r
+        .warnings
+        .iter()
+        .filter(|w| w.what.contains("rate_sd_dph is 0"))
+        .collect();
+    assert_eq!(said.len(), 1, "{:?}", r.warnings);
+    assert!(
+        said[0].line == 7 && said[0].what.contains("in 2 dwell(s)"),
+        "{:?}",
+        said
+    );
+    assert_eq!(r.rows[3].rate_sd_dph, Some(0.0), "used as given");
+}
