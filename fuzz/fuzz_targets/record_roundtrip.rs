@@ -167,10 +167,7 @@ fn run(u: &mut Unstructured) -> Result<()> {
                     same(Some(*got), want as f64, 6, "quarter", line);
                 }
             }
-            None => assert!(
-                steady || few(r) || r.quarters_dph.iter().any(|q| q.is_nan()),
-                "{line}"
-            ),
+            None => assert!(steady || few(r) || r.quarters_dph.iter().any(|q| q.is_nan()), "{line}"),
         }
     }
     Ok(())
