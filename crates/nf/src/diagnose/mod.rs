@@ -219,7 +219,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     .run(start)?;
     let selection_s = selection_started.elapsed().as_secs_f64();
     let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
-    let final_cols: Vec<Vec<f64>> = sel.model.cols.iter().map(|c| c.raw.clone()).collect();
+    let final_cols: Vec<Vec<f64>> = sel.model.raw_cols();
     let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise, opt.replicates);
     // Through shocks the result is the shocks' fit's; else each model met is weighed and
     // fitted under the noise estimated with its own columns.
@@ -229,7 +229,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
                 .variants
                 .iter()
                 .map(|v| final_sigma::Met {
-                    cols: v.model.cols.iter().map(|c| c.raw.clone()).collect(),
+                    cols: v.model.raw_cols(),
                     y: &v.model.y,
                     scanned: v.scanned,
                 })

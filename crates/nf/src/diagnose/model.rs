@@ -107,6 +107,11 @@ impl Model {
             .collect()
     }
 
+    /// The columns as recorded, not whitened.
+    pub fn raw_cols(&self) -> Vec<Vec<f64>> {
+        self.cols.iter().map(|c| c.raw.clone()).collect()
+    }
+
     /// Columns beyond Eq. 7's.
     pub fn extra(&self) -> usize {
         self.cols.len() - 3

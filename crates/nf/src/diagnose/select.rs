@@ -191,7 +191,7 @@ impl<'a> Selector<'a> {
         };
         let (cautious, drift) = (under(self.cautious), under(self.drift));
         let cols = match self.wander {
-            Some(_) => model.cols.iter().map(|c| c.raw.clone()).collect(),
+            Some(_) => model.raw_cols(),
             None => Vec::new(),
         };
         let null = LazyNull::new(self.wander, cols, model.y.clone());
