@@ -28,6 +28,7 @@ pub mod range;
 pub mod recording;
 pub mod replicate;
 pub mod report;
+pub mod sample_spread;
 pub mod schedule;
 mod semisep;
 pub mod shock_fit;

@@ -65,10 +65,11 @@ pub fn calibrate(
         .map(|i| data.cols.iter().zip(coef).map(|(c, b)| c[i] * b).sum())
         .collect();
     let z: Vec<(f64, f64)> = replicate::run(replicates, seed_of(data.y), |rng| {
-        let (y, quarters) = draw.replicate(rng, &fitted);
+        let r = draw.replicate(rng, &fitted);
         let v = judge(Data {
-            y: &y,
-            quarters: &quarters,
+            y: &r.y,
+            quarters: &r.quarters,
+            spread: &r.spread,
             ..data.clone()
         })?;
         let zp = wrap_180(v.psi_deg - truth.psi_deg) / v.sigma_psi_deg;
@@ -125,6 +126,7 @@ mod tests {
             cols: &r.cols,
             y: &r.fitted,
             quarters: &[],
+            spread: &[],
             extra: None,
         }
     }

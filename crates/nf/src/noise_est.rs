@@ -1,7 +1,8 @@
 //! The gyro's noise estimated from one recording, by restricted maximum likelihood: white noise
 //! with flicker (bias instability) and rate random walk, or with a first-order Gauss-Markov
 //! bias, from
-//! - the quarter means of each dwell (the short-time noise: three contrasts per dwell), and
+//! - the quarter means of each dwell (the short-time noise: three contrasts per dwell), or
+//!   where there are none the spread of its samples ([`crate::sample_spread`]), and
 //! - the dwell means in time order, through the residuals of the azimuth fit (the long-time
 //!   noise: REML sees only what the fit's columns cannot absorb).
 //!
@@ -13,6 +14,7 @@
 
 use crate::gls::{self, Cov, WindowSet};
 use crate::quarter_contrasts::{Part, QuarterContrasts};
+use crate::sample_spread::{SampleSpread, Spread};
 use crate::stats::chi2_sf;
 use nf_model::noise::NoiseModel;
 
@@ -28,6 +30,8 @@ pub struct Data<'a> {
     pub y: &'a [f64],
     /// Quarter means of the dwells that have them.
     pub quarters: &'a [[f64; 4]],
+    /// The samples' spread of the dwells that have it, where no dwell has quarters.
+    pub spread: &'a [Spread],
     /// Per dwell, a variance of its mean alone (a shock's) in units of the white density,
     /// so that it scales with the white level the estimate profiles out; `None`: none.
     pub extra: Option<&'a [f64]>,
@@ -209,6 +213,7 @@ struct Problem<'a> {
     /// The designs estimated at once: `data.cols` first.
     designs: Vec<&'a [Vec<f64>]>,
     quarters: QuarterContrasts,
+    spread: SampleSpread,
     /// The dwells, factored under every model looked at.
     windows: WindowSet,
 }
@@ -217,6 +222,7 @@ impl<'a> Problem<'a> {
     fn new(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Problem<'a> {
         Problem {
             quarters: QuarterContrasts::new(data.quarters, data.dwell_s),
+            spread: SampleSpread::new(data.spread, data.dwell_s),
             designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
             windows: WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]),
             data,
@@ -265,20 +271,21 @@ impl<'a> Problem<'a> {
         let d = &self.data;
         let m = at.unit_model();
         let g = gls::fit(cols, d.y, cov)?;
-        // -2 loglik = N ln W + a + q / W, with the dwell means' REML and the quarter contrasts.
+        // -2 loglik = N ln W + a + q / W, with the dwell means' REML and the quarter contrasts
+        // or the samples' spread.
         let dwells = Part {
             log_det: -2.0 * g.reml_loglik - g.chi2,
             quad: g.chi2,
             count: g.dof,
         };
-        let quarters = self.quarters.part(&m)?;
-        let (loglik, w) = dwells.plus(quarters).profiled()?;
+        let short = self.quarters.part(&m)?.plus(self.spread.part(&m)?);
+        let (loglik, w) = dwells.plus(short).profiled()?;
         let full = Part {
             log_det: cov.log_det(),
             quad: g.chi2,
             count: d.y.len(),
         };
-        let (full_loglik, _) = full.plus(quarters).profiled()?;
+        let (full_loglik, _) = full.plus(short).profiled()?;
         Some(Candidate {
             model: scaled(&m, w),
             loglik,
@@ -541,7 +548,7 @@ fn refine(p: &Problem, k: usize, cands: Vec<(Point, Candidate)>) -> Option<Estim
     Some(Estimate {
         best,
         grid: cands.into_iter().map(|c| c.1).collect(),
-        dof: p.data.t_s.len() - p.designs[k].len() + 3 * p.data.quarters.len(),
+        dof: p.data.t_s.len() - p.designs[k].len() + p.quarters.count() + p.spread.count(),
     })
 }
 
@@ -603,6 +610,7 @@ mod tests {
                 cols: &r.cols,
                 y: &r.y,
                 quarters: &r.quarters,
+                spread: &[],
                 extra: None,
             };
             let e = estimate_all(data.clone(), &[], Colours::WithGaussMarkov)

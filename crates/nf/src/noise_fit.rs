@@ -7,6 +7,7 @@ use crate::linfit;
 use crate::noise_calib::{self, Calibration, Verdict};
 use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned, scaled};
 use crate::recording::{Recording, Row};
+use crate::sample_spread::{self, SampleSpread};
 use crate::shock_fit::{self, ShockFit};
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
@@ -27,6 +28,8 @@ pub enum NoiseSource {
     Estimated {
         dof: usize,
         from_quarters: usize,
+        /// Dwells whose samples' spread the estimate used (none where there are quarters).
+        from_spread: usize,
         /// The estimate saw one dwell mean in this many (1: all of them).
         one_in: usize,
         /// The parametric bootstrap that scaled the sigmas, when it could be run.
@@ -43,13 +46,15 @@ impl NoiseSource {
             NoiseSource::Estimated {
                 dof,
                 from_quarters,
+                from_spread,
                 one_in,
                 calibration,
                 colours,
             } => {
-                let from = match from_quarters {
-                    0 => String::new(),
-                    q => format!("quarter means of {q} dwells and "),
+                let from = match (from_quarters, from_spread) {
+                    (0, 0) => String::new(),
+                    (0, s) => format!("the samples' spread in {s} dwells and "),
+                    (q, _) => format!("quarter means of {q} dwells and "),
                 };
                 let calibrated = match calibration {
                     Some(c) => format!(
@@ -164,6 +169,7 @@ pub fn fit(
         ));
     }
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    let spread = sample_spread::of_rows(rec.rows.iter(), n - p);
     let colours = colours_of(&cols, y);
     let windows = WindowSet::new(&t, &vec![dwell_s; n]);
     let data = Data {
@@ -172,6 +178,7 @@ pub fn fit(
         cols: &cols,
         y,
         quarters: &quarters,
+        spread: &spread,
         extra: None,
     };
     let (model, source, v, carried) = match choice {
@@ -187,6 +194,7 @@ pub fn fit(
             let source = NoiseSource::Estimated {
                 dof: g.dof,
                 from_quarters: quarters.len(),
+                from_spread: SampleSpread::new(&spread, dwell_s).dwells(),
                 one_in: g.one_in,
                 calibration: g.calibration,
                 colours,
@@ -359,15 +367,20 @@ fn shock_round(
         return None;
     }
     let relative: Vec<f64> = sf.extra.iter().map(|e| e / white).collect();
-    let quarters: Vec<[f64; 4]> = rows
+    let unstruck = rows
         .iter()
         .enumerate()
         .filter(|(i, _)| !sf.struck.contains(i))
-        .filter_map(|(_, r)| r.quarters_dph)
-        .collect();
+        .map(|(_, r)| r);
+    let quarters: Vec<[f64; 4]> = unstruck.clone().filter_map(|r| r.quarters_dph).collect();
+    let spread = match data.spread {
+        [] => Vec::new(),
+        _ => sample_spread::of_rows(unstruck, 0),
+    };
     let (e, _) = estimate(
         Data {
             quarters: &quarters,
+            spread: &spread,
             extra: Some(&relative),
             ..data.clone()
         },

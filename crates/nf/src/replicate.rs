@@ -3,14 +3,27 @@
 
 use crate::gls::Cov;
 use crate::noise_est::Data;
+use crate::sample_spread::{self, Spread};
 use nf_model::noise::NoiseModel;
 use nf_model::rng::Rng;
 
 /// Noise for the dwells of a recording: with quarters, the four quarter means of every dwell
-/// drawn jointly (the dwell mean is their mean); without, the dwell means.
+/// drawn jointly (the dwell mean is their mean); without, the dwell means, and the samples'
+/// spread where the recording has it.
 pub struct Draw {
     cov: Cov,
     quarters: usize,
+    model: NoiseModel,
+    dwell_s: f64,
+    samples: Vec<u32>,
+}
+
+/// One replicate: the dwell means, the quarters and the spreads (of as many dwells as the
+/// recording has them).
+pub struct Replica {
+    pub y: Vec<f64>,
+    pub quarters: Vec<[f64; 4]>,
+    pub spread: Vec<Spread>,
 }
 
 impl Draw {
@@ -29,22 +42,39 @@ impl Draw {
         Some(Draw {
             cov,
             quarters: data.quarters.len(),
+            model: *model,
+            dwell_s: data.dwell_s,
+            samples: data.spread.iter().map(|s| s.samples).collect(),
         })
     }
 
-    /// The dwell means and the quarters (of as many dwells as the recording has them).
-    pub fn replicate(&self, rng: &mut Rng, fitted: &[f64]) -> (Vec<f64>, Vec<[f64; 4]>) {
+    pub fn replicate(&self, rng: &mut Rng, fitted: &[f64]) -> Replica {
         let n = fitted.len();
         let m = if self.quarters == 0 { n } else { 4 * n };
         let v = self.cov.colour(&(0..m).map(|_| rng.gauss()).collect::<Vec<_>>());
+        let spread = self
+            .samples
+            .iter()
+            .map(|&samples| Spread {
+                sd_dph: sample_spread::draw(rng, &self.model, samples, self.dwell_s),
+                samples,
+            })
+            .collect();
         if self.quarters == 0 {
-            return (fitted.iter().zip(&v).map(|(f, e)| f + e).collect(), Vec::new());
+            return Replica {
+                y: fitted.iter().zip(&v).map(|(f, e)| f + e).collect(),
+                quarters: Vec::new(),
+                spread,
+            };
         }
         let quarters: Vec<[f64; 4]> = (0..n)
             .map(|i| core::array::from_fn(|k| fitted[i] + v[4 * i + k]))
             .collect();
-        let y = quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect();
-        (y, quarters.into_iter().take(self.quarters).collect())
+        Replica {
+            y: quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect(),
+            quarters: quarters.into_iter().take(self.quarters).collect(),
+            spread,
+        }
     }
 }
 
@@ -87,6 +117,7 @@ mod tests {
             cols: &[],
             y: &fitted,
             quarters: &some,
+            spread: &[],
             extra: None,
         };
         let model = NoiseModel::white(0.005, 2.0);
@@ -94,7 +125,7 @@ mod tests {
         let mut rng = Rng::new(4);
         let (mut dwell, mut quarter, mut k) = (0.0, 0.0, 0.0);
         for _ in 0..400 {
-            let (y, q) = draw.replicate(&mut rng, &fitted);
+            let Replica { y, quarters: q, .. } = draw.replicate(&mut rng, &fitted);
             assert_eq!(q.len(), 10, "as many dwells with quarters as the recording has");
             for (i, q) in q.iter().enumerate() {
                 let mean = q.iter().sum::<f64>() / 4.0;

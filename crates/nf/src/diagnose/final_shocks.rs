@@ -8,7 +8,7 @@
 use super::data::Data;
 use super::effect::param;
 use super::kind::Kind;
-use super::noise::{NO_FIT, SHOCK_RMS, dwell_and_quarters};
+use super::noise::{NO_FIT, SHOCK_RMS, short_time};
 use super::select::Finding;
 use super::tails::Tails;
 use crate::gls::WindowSet;
@@ -40,13 +40,15 @@ pub fn through(
     replicates: usize,
 ) -> Option<FinalShocks> {
     let tails = noise_fit::shock_tails(cols, y)?;
-    let (dwell_s, quarters) = dwell_and_quarters(d);
+    let short = short_time(d);
+    let dwell_s = short.dwell_s;
     let data = noise_est::Data {
         t_s: &d.t,
         dwell_s,
         cols,
         y,
-        quarters: &quarters,
+        quarters: &short.quarters,
+        spread: &short.spread,
         extra: None,
     };
     let windows = WindowSet::new(&d.t, &vec![dwell_s; d.n()]);

@@ -13,7 +13,7 @@
 //! most likely model (as `nf fit` does).
 
 use super::data::Data;
-use super::noise::{dwell_and_quarters, plausible_candidates, with_bursts_held_out};
+use super::noise::{plausible_candidates, short_time, with_bursts_held_out};
 use crate::noise_calib::{self, Calibration, Verdict};
 use crate::noise_est::{self, Colours, THINNED, Term};
 use crate::noise_fit::azimuth;
@@ -67,14 +67,15 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
     if d.n() > THINNED || met.is_empty() {
         return None;
     }
-    let (dwell_s, quarters) = dwell_and_quarters(d);
+    let short = short_time(d);
     let designs: Vec<Vec<Vec<f64>>> = met.iter().map(|m| with_bursts_held_out(d, &m.cols, m.y)).collect();
     let base = noise_est::Data {
         t_s: &d.t,
-        dwell_s,
+        dwell_s: short.dwell_s,
         cols: &designs[0],
         y: met[0].y,
-        quarters: &quarters,
+        quarters: &short.quarters,
+        spread: &short.spread,
         extra: None,
     };
     let data = |k: usize| noise_est::Data {

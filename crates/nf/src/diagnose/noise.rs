@@ -19,6 +19,7 @@ use crate::gls::WindowSet;
 use crate::linfit;
 use crate::noise_est::{self, Candidate, THINNED, Term, Thinned};
 use crate::noise_fit::{NoiseChoice, dwell_of};
+use crate::sample_spread::{self, SampleSpread, Spread};
 use crate::wander_test::WanderTest;
 use nf_model::noise::NoiseModel;
 
@@ -112,7 +113,8 @@ fn independent(cols: &[Vec<f64>], c: &[f64]) -> bool {
 /// Estimates (or takes) the noise model of `y`, the rates less the tilt correction.
 pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<Noise, String> {
     let cols = design(d);
-    let (dwell_s, quarters) = dwell_and_quarters(d);
+    let short = short_time(d);
+    let (dwell_s, quarters) = (short.dwell_s, &short.quarters);
     let n = d.n();
     let whitening = Whitening {
         windows: WindowSet::new(&d.t, &vec![dwell_s; n]),
@@ -124,7 +126,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         // frequency can differ, so the effects it can mimic are also asked of the wander
         // test, started from the given model too.
         let wander = (n <= THINNED)
-            .then(|| WanderTest::new(&d.t, dwell_s, &quarters, &[*m]))
+            .then(|| WanderTest::new(&d.t, dwell_s, quarters, &[*m]))
             .flatten();
         return Ok(Noise {
             model: *m,
@@ -146,7 +148,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     // under which a drift or a jump is judged (below).
     let mut drifting = robust.clone();
     drifting.extend([d.tau.clone(), d.tau.iter().map(|v| v * v).collect()]);
-    let (both, every, used) = estimates(d, y, dwell_s, &quarters, &[&robust, &drifting]);
+    let (both, every, used) = estimates(d, y, &short, &[&robust, &drifting]);
     let mut both = both.into_iter();
     let (e, with_drift) = (both.next().flatten(), both.next().flatten());
     let e = e.ok_or("the noise could not be estimated from the recording")?;
@@ -176,7 +178,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         };
         let mut starts = near(&e);
         starts.extend(with_drift.as_ref().map(near).unwrap_or_default());
-        WanderTest::new(&d.t, dwell_s, &quarters, &starts).map(WanderTest::drawing)
+        WanderTest::new(&d.t, dwell_s, quarters, &starts).map(WanderTest::drawing)
     };
     Ok(Noise {
         wander,
@@ -194,10 +196,10 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
                 (_, 0) => format!("{used} of the {n} (one in {every})"),
                 (_, held) => format!("{used} of the {n} (one in {every}, {held} held out as bursts)"),
             },
-            if quarters.is_empty() {
-                String::new()
-            } else {
-                format!(" and the quarter means of {} dwells", quarters.len())
+            match (quarters.len(), SampleSpread::new(&short.spread, dwell_s).dwells()) {
+                (0, 0) => String::new(),
+                (0, s) => format!(" and the samples' spread in {s} dwells"),
+                (q, _) => format!(" and the quarter means of {q} dwells"),
             },
             e.dof
         ),
@@ -208,11 +210,20 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     })
 }
 
-/// The dwell, and the quarter means: they show the short-time noise inside each dwell,
-/// whichever dwells have them (as `nf fit` takes them).
-pub(super) fn dwell_and_quarters(d: &Data) -> (f64, Vec<[f64; 4]>) {
-    let (dwell_s, _) = dwell_of(&d.rec);
-    (dwell_s, d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect())
+/// The dwell, and what shows the short-time noise inside it, as `nf fit` takes them: the
+/// quarter means of whichever dwells have them, else the samples' spread.
+pub(super) struct ShortTime {
+    pub dwell_s: f64,
+    pub quarters: Vec<[f64; 4]>,
+    pub spread: Vec<Spread>,
+}
+
+pub(super) fn short_time(d: &Data) -> ShortTime {
+    ShortTime {
+        dwell_s: dwell_of(&d.rec).0,
+        quarters: d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect(),
+        spread: sample_spread::of_rows(d.rec.rows.iter(), d.n().saturating_sub(design(d).len())),
+    }
 }
 
 /// The REML estimate of `y` under each of `designs` (white noise with flicker and walk, or a
@@ -221,8 +232,7 @@ pub(super) fn dwell_and_quarters(d: &Data) -> (f64, Vec<[f64; 4]>) {
 fn estimates(
     d: &Data,
     y: &[f64],
-    dwell_s: f64,
-    quarters: &[[f64; 4]],
+    short: &ShortTime,
     designs: &[&[Vec<f64>]],
 ) -> (Vec<Option<noise_est::Estimate>>, usize, usize) {
     let thinned = Thinned::new(&d.t, y, designs);
@@ -230,10 +240,11 @@ fn estimates(
     let e = noise_est::estimate_all(
         noise_est::Data {
             t_s: &thinned.t_s,
-            dwell_s,
+            dwell_s: short.dwell_s,
             cols: &thinned.designs[0],
             y: &thinned.y,
-            quarters,
+            quarters: &short.quarters,
+            spread: &short.spread,
             extra: None,
         },
         &more,
@@ -271,8 +282,7 @@ pub fn with_effects(d: &Data, y: &[f64], effects: &[Vec<f64>], alpha: f64) -> Op
         }
     }
     let robust = with_bursts_held_out(d, &cols, y);
-    let (dwell_s, quarters) = dwell_and_quarters(d);
-    let (mut e, _, _) = estimates(d, y, dwell_s, &quarters, &[&robust]);
+    let (mut e, _, _) = estimates(d, y, &short_time(d), &[&robust]);
     let (model, terms) = supported(&e.pop().flatten()?, alpha);
     Some(AfterEffects {
         model,

@@ -1,0 +1,212 @@
+//! The short-time noise from the spread of the samples inside each dwell (`rate_sd_dph` over
+//! `samples`), for a run of a few positions without quarter means: its dwell means leave the
+//! white level one to five residual degrees of freedom, and the sigma from them is a guess.
+//!
+//! A gyro's samples are often filtered or coloured, so their spread is not quite a dwell
+//! mean's white noise (an ADIS16405 log's spread over 100 samples is 1.35 times too small for
+//! the variance of their 1 s mean; an XSens log's over 1000 samples, 2 times). Each dwell
+//! counts for at most [`DOF_PER_DWELL`] degrees of freedom, the weight its quarter means would
+//! have had, not its samples' hundreds, and a run whose dwell means leave [`FEW_DOF`] or more
+//! does without it: on sweeps of those logs (36-72 positions) the spread moved `nf fit`'s RMS
+//! of error/sigma further from 1 than the dwell means alone (docs/noise.md).
+
+use crate::quarter_contrasts::Part;
+use crate::recording::Row;
+use nf_model::noise::NoiseModel;
+use nf_model::rng::Rng;
+
+/// What one dwell's samples show: their standard deviation and how many there were.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spread {
+    pub sd_dph: f64,
+    pub samples: u32,
+}
+
+/// The most degrees of freedom a dwell's spread counts for in a likelihood.
+pub const DOF_PER_DWELL: u32 = 3;
+
+/// The spreads of a recording's dwells, grouped by their sample count.
+#[derive(Debug, Clone)]
+pub struct SampleSpread {
+    groups: Vec<Group>,
+    dwell_s: f64,
+}
+
+#[derive(Debug, Clone)]
+struct Group {
+    samples: u32,
+    dwells: usize,
+    sum_var: f64,
+}
+
+impl SampleSpread {
+    /// Dwells of one sample or of no spread say nothing of it and are left out.
+    pub fn new(spreads: &[Spread], dwell_s: f64) -> SampleSpread {
+        let mut groups: Vec<Group> = Vec::new();
+        for s in spreads.iter().filter(|s| s.samples > 1 && s.sd_dph > 0.0) {
+            let var = s.sd_dph * s.sd_dph;
+            match groups.iter_mut().find(|g| g.samples == s.samples) {
+                Some(g) => {
+                    g.dwells += 1;
+                    g.sum_var += var;
+                }
+                None => groups.push(Group {
+                    samples: s.samples,
+                    dwells: 1,
+                    sum_var: var,
+                }),
+            }
+        }
+        SampleSpread { groups, dwell_s }
+    }
+
+    /// How many dwells show a spread.
+    pub fn dwells(&self) -> usize {
+        self.groups.iter().map(|g| g.dwells).sum()
+    }
+
+    /// The degrees of freedom they count for.
+    pub fn count(&self) -> usize {
+        self.groups.iter().map(|g| g.dwells * dof(g.samples)).sum()
+    }
+
+    /// Their part of the likelihood under `m`; `None` where `m` gives the samples no spread.
+    pub fn part(&self, m: &NoiseModel) -> Option<Part> {
+        let mut part = Part {
+            log_det: 0.0,
+            quad: 0.0,
+            count: 0,
+        };
+        for g in &self.groups {
+            let e = expected_var(m, g.samples, self.dwell_s);
+            if e.is_nan() || e <= 0.0 {
+                return None;
+            }
+            let k = dof(g.samples);
+            part = part.plus(Part {
+                log_det: (g.dwells * k) as f64 * e.ln(),
+                quad: k as f64 * g.sum_var / e,
+                count: g.dwells * k,
+            });
+        }
+        Some(part)
+    }
+}
+
+/// The residual degrees of freedom of the dwell means from which on their own scatter
+/// measures the white level, and the spread is not used.
+pub const FEW_DOF: usize = 6;
+
+/// The spreads of `rows` that have one, for a fit that leaves the dwell means `dof` residual
+/// degrees of freedom; none from [`FEW_DOF`] on, or when any row has quarter means (they show
+/// the short-time noise at the scale of the dwell and are not thrown by filtered samples).
+pub fn of_rows<'a>(rows: impl Iterator<Item = &'a Row> + Clone, dof: usize) -> Vec<Spread> {
+    if dof >= FEW_DOF || rows.clone().any(|r| r.quarters_dph.is_some()) {
+        return Vec::new();
+    }
+    rows.filter_map(|r| {
+        Some(Spread {
+            sd_dph: r.rate_sd_dph?,
+            samples: r.samples?,
+        })
+    })
+    .collect()
+}
+
+fn dof(samples: u32) -> usize {
+    (samples - 1).min(DOF_PER_DWELL) as usize
+}
+
+/// The expected square of a dwell's sample standard deviation under `m`: `n / (n - 1)` times
+/// a sample's variance less the dwell mean's, for `n` samples; exact for the generalised
+/// covariances of flicker and walk too (the spread is a contrast).
+pub fn expected_var(m: &NoiseModel, samples: u32, dwell_s: f64) -> f64 {
+    let n = f64::from(samples);
+    let ts = dwell_s / n;
+    n / (n - 1.0) * (m.mean_cov(0.0, ts, ts, true) - m.mean_cov(0.0, dwell_s, dwell_s, true))
+}
+
+/// A dwell's sample standard deviation drawn under `m` for its `samples` (the chi-square of
+/// `samples - 1` degrees of freedom, by Wilson and Hilferty's cube past 30).
+pub fn draw(rng: &mut Rng, m: &NoiseModel, samples: u32, dwell_s: f64) -> f64 {
+    let nu = f64::from(samples - 1);
+    let chi2 = if samples <= 31 {
+        (1..samples).map(|_| rng.gauss().powi(2)).sum::<f64>()
+    } else {
+        let c = 2.0 / (9.0 * nu);
+        nu * (1.0 - c + rng.gauss() * c.sqrt()).max(0.0).powi(3)
+    };
+    (expected_var(m, samples, dwell_s) * chi2 / nu).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn white_samples_spread_as_the_density_says() {
+        // 0.01 deg/h for a 2 s mean: over 400 samples each has 0.2 deg/h.
+        let m = NoiseModel::white(0.01, 2.0);
+        assert!((expected_var(&m, 400, 2.0) / 0.04 - 1.0).abs() < 1e-9);
+        let mut rng = Rng::new(3);
+        for samples in [2, 20, 400] {
+            let e = expected_var(&m, samples, 2.0);
+            let mean: f64 = (0..4000).map(|_| draw(&mut rng, &m, samples, 2.0).powi(2)).sum::<f64>() / 4000.0;
+            assert!((mean / e - 1.0).abs() < 0.05, "{samples} samples: {mean} against {e}");
+        }
+    }
+
+    #[test]
+    fn flicker_adds_the_same_spread_for_every_octave_of_samples() {
+        let white = NoiseModel::white(0.01, 2.0);
+        let flicker = NoiseModel {
+            arw_deg_rth: 0.0,
+            bias_instability_dph: 0.5,
+            ..white
+        };
+        let both = NoiseModel {
+            bias_instability_dph: 0.5,
+            ..white
+        };
+        let e = |m: &NoiseModel, n: u32| expected_var(m, n, 2.0);
+        assert!((e(&both, 400) - e(&white, 400) - e(&flicker, 400)).abs() < 1e-12);
+        // 1/f noise: equal power in every octave, so each doubling of the samples adds the same.
+        let (a, b) = (e(&flicker, 400) - e(&flicker, 200), e(&flicker, 800) - e(&flicker, 400));
+        assert!(a > 0.0 && (b / a - 1.0).abs() < 0.05, "{a} {b}");
+    }
+
+    #[test]
+    fn the_part_profiles_to_the_white_level_with_three_dof_a_dwell() {
+        let m = NoiseModel::white(1.0, 1.0);
+        let spreads = [
+            Spread {
+                sd_dph: 0.3,
+                samples: 100,
+            },
+            Spread {
+                sd_dph: 0.5,
+                samples: 100,
+            },
+            Spread {
+                sd_dph: 9.0,
+                samples: 1,
+            },
+            Spread {
+                sd_dph: 0.0,
+                samples: 50,
+            },
+        ];
+        let spread = SampleSpread::new(&spreads, 1.0);
+        let part = spread.part(&m).unwrap();
+        assert_eq!(
+            (spread.dwells(), spread.count(), part.count),
+            (2, 6, 6),
+            "two dwells count, three dof each"
+        );
+        // The white level that fits (a 1 s mean's variance): the mean sample variance over
+        // the 100 samples.
+        let (_, w) = part.profiled().unwrap();
+        let want = (0.09 + 0.25) / 2.0 / 100.0;
+        assert!((w / want - 1.0).abs() < 1e-9, "{w} {want}");
+    }
+}
