@@ -4,7 +4,8 @@ from the twin (numpy, the documented format): named first, false alarms, finals 
 reported sigma and worse than the baseline by 3 of its sigma, per effect.
 
     python3 bench/real_effects.py NF_BINARY LOG [RUNS] [--stretch S] [--pairs] [--effect NAME]
-                                  [--keep DIR] [--fit]
+                                  [--keep DIR] [--fit] [--positions 36,48,72]
+                                  [--short quarters|spread|none]
 
 The gyro error of each recording is a window of LOG (the static-log format), its mean
 removed and scaled so that its Allan deviation at a dwell is 0.01 deg/h (`s`, as
@@ -13,7 +14,9 @@ to 60) and azimuth. 36, 48 or 72 positions of 1 s, 1.35 s apart, in a sweep (or 
 pairs); STRETCH s of the log make one second of the recording. The effects at the suite's
 moderate level (docs/diagnose.md), in units of `s` or of the quantity's standard error.
 `--fit` puts them through `nf fit` instead: RMS error/sigma, how many beyond 3 sigma, and
-white least squares' RMS error/sigma. `--keep DIR` keeps the recordings whose final is worse than the baseline or beyond 3 sigma;
+white least squares' RMS error/sigma. `--positions` cycles through other run sizes; `--short`
+writes the window's sample spread (`rate_sd_dph`, `samples`) or nothing in place of the
+quarter means. `--keep DIR` keeps the recordings whose final is worse than the baseline or beyond 3 sigma;
 the shaft tilt is 0.002 deg unless `TILT_DEG` says otherwise.
 
 The physics, written here apart from the twin: the gyro axis and the inclinometer's Y axis
@@ -27,6 +30,9 @@ import json, math, os, subprocess, sys, tempfile
 import numpy as np
 
 WE, DWELL, SPACING, S = 15.041, 1.0, 1.35, 0.01
+SHORT_COLS = {"quarters": ["q1_dph", "q2_dph", "q3_dph", "q4_dph"], "spread": ["rate_sd_dph", "samples"], "none": []}
+SHORT = "quarters"
+POSITIONS = [36, 48, 72]
 EFFECTS = ["clean", "bias_drift", "bias_jump", "thermal_drift", "shaft_tilt", "encoder_error",
            "scale_factor", "nonlinearity", "settling_transient", "outliers"]
 
@@ -79,8 +85,7 @@ def write(path, noise, per_s, n, pairs, effect, rng):
     bad = int(rng.integers(n))
     sign = rng.choice([-1, 1])
     q_len = int(DWELL * per_s / 4)
-    cols = ["index", "t_s", "encoder_deg", "rate_dph", "q1_dph", "q2_dph", "q3_dph", "q4_dph",
-            "temp_c", "tilt_x_deg", "tilt_y_deg"]
+    cols = ["index", "t_s", "encoder_deg", "rate_dph"] + SHORT_COLS[SHORT] + ["temp_c", "tilt_x_deg", "tilt_y_deg"]
     lines = ["# format = northfinder-recording/1", f"# latitude_deg = {lat:.5f}",
              f"# dwell_s = {DWELL}", ",".join(cols)]
     for i, g in enumerate(gammas):
@@ -114,7 +119,10 @@ def write(path, noise, per_s, n, pairs, effect, rng):
             enc = (g + math.degrees(enc_e) * math.sin(2 * math.radians(g) + enc_phase)) % 360
         tx = math.degrees(math.asin(u[2])) + off_x + rng.normal(0, 5e-4)
         ty = math.degrees(math.asin(v[2])) + off_y + rng.normal(0, 5e-4)
-        row = [str(i), f"{t:.3f}", f"{enc:.6f}", f"{q.mean():.8f}"] + [f"{x:.8f}" for x in q]
+        seg = noise[frm: frm + 4 * q_len]
+        short = {"quarters": [f"{x:.8f}" for x in q], "spread": [f"{seg.std(ddof=1):.8f}", str(len(seg))],
+                 "none": []}[SHORT]
+        row = [str(i), f"{t:.3f}", f"{enc:.6f}", f"{q.mean():.8f}"] + short
         row += [f"{temp:.4f}", f"{tx:.6f}", f"{ty:.6f}"]
         lines.append(",".join(row))
     with open(path, "w") as f:
@@ -134,7 +142,7 @@ def recordings(path, raw, per_s, runs, pairs, effect, stretch):
     rng = np.random.default_rng([EFFECTS.index(effect), int(stretch * 10), int(pairs)])
     scale = S / adev(raw, int(round(DWELL * per_s)))
     for r in range(runs):
-        n = [36, 48, 72][r % 3]
+        n = POSITIONS[r % len(POSITIONS)]
         length = int((n * SPACING + DWELL) * per_s)
         frm = int(rng.integers(len(raw) - length))
         w = raw[frm:frm + length]
@@ -195,6 +203,9 @@ def main():
     effects = [opt("--effect", None)] if "--effect" in args else EFFECTS
     keep = opt("--keep", None)
     fit = "--fit" in args
+    global SHORT, POSITIONS
+    SHORT = opt("--short", SHORT)
+    POSITIONS = [int(v) for v in opt("--positions", ",".join(map(str, POSITIONS))).split(",")]
     raw, rate_hz = read_log(log)
     print(f"{log}: stretch {stretch}, {'pairs' if pairs else 'sweep'}, {runs} per row")
     if fit:
