@@ -910,3 +910,29 @@ fn diagnose_json_schema_and_bad_inputs() {
     let (code, _, err) = nf(&["diagnose", &path, "--alpha", "1.5"]);
     assert_eq!(code, 2, "{err}");
 }
+
+#[test]
+fn a_short_run_uses_the_spreads_that_tell_one_and_says_so() {
+    // Four positions, no quarters: `rate_sd_dph` with 400 samples on two dwells, and on the
+    // others 0 samples and a spread of 0, which say nothing.
+    let mut text = String::from(
+        "# format = northfinder-recording/1\n# latitude_deg = 40\n# dwell_s = 10\nindex,t_s,encoder_deg,rate_dph,rate_sd_dph,samples\n",
+    );
+    let noise = [0.02, -0.01, 0.015, -0.03];
+    for (k, e) in noise.iter().enumerate() {
+        let g = 90.0 * k as f64;
+        let rate = 15.041 * 40f64.to_radians().cos() * (g + 30.0f64).to_radians().cos() + 0.5 + e;
+        let (sd, samples) = [(0.6, 400), (0.62, 400), (0.5, 0), (0.0, 400)][k];
+        text += &format!("{k},{},{g},{rate},{sd},{samples}\n", 5 + 12 * k);
+    }
+    let file = tmp("short_spread.csv");
+    std::fs::write(&file, text).unwrap();
+    let (code, out, err) = nf(&["fit", &file, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let source = j["noise_model"]["source"].as_str().unwrap();
+    assert!(source.contains("the samples' spread in 2 dwells"), "{source}");
+    // 0.03 deg/h a dwell mean over an amplitude of 11.5 deg/h, four positions: 0.0037 rad.
+    let sigma = j["sigma_arcsec"].as_f64().unwrap();
+    assert!((400.0..1500.0).contains(&sigma), "{sigma}");
+}

@@ -399,7 +399,7 @@ fn quarters_of_few_samples(rows: &mut [Row], warnings: &mut Vec<Error>) {
 
 /// A spread of exactly zero over more than one sample says the samples were all equal, which a
 /// gyro's are not (or that the writer put 0 for a value it did not have): said once, the values
-/// used as given.
+/// kept as written (a fit does not take them for the dwell's noise).
 fn sample_spread_of_none(rows: &[Row], warnings: &mut Vec<Error>) {
     let zero: Vec<&Row> = rows
         .iter()
@@ -409,7 +409,7 @@ fn sample_spread_of_none(rows: &[Row], warnings: &mut Vec<Error>) {
         warnings.push(Error {
             line: first.line,
             what: format!(
-                "rate_sd_dph is 0 in {} dwell(s) of more than one sample: their samples all equal, or no spread was written; used as given",
+                "rate_sd_dph is 0 in {} dwell(s) of more than one sample: their samples all equal, or no spread was written; kept, not taken for the dwells' noise",
                 zero.len()
             ),
         });

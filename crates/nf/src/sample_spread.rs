@@ -22,6 +22,14 @@ pub struct Spread {
     pub samples: u32,
 }
 
+impl Spread {
+    /// Whether it says anything: one sample or none has no spread, and a spread of 0 over
+    /// more was not written or comes from a stuck sensor.
+    fn tells(&self) -> bool {
+        self.samples > 1 && self.sd_dph > 0.0
+    }
+}
+
 /// The most degrees of freedom a dwell's spread counts for in a likelihood.
 pub const DOF_PER_DWELL: u32 = 3;
 
@@ -43,7 +51,7 @@ impl SampleSpread {
     /// Dwells of one sample or of no spread say nothing of it and are left out.
     pub fn new(spreads: &[Spread], dwell_s: f64) -> SampleSpread {
         let mut groups: Vec<Group> = Vec::new();
-        for s in spreads.iter().filter(|s| s.samples > 1 && s.sd_dph > 0.0) {
+        for s in spreads.iter().filter(|s| s.tells()) {
             let var = s.sd_dph * s.sd_dph;
             match groups.iter_mut().find(|g| g.samples == s.samples) {
                 Some(g) => {
@@ -110,6 +118,7 @@ pub fn of_rows<'a>(rows: impl Iterator<Item = &'a Row> + Clone, dof: usize) -> V
             samples: r.samples?,
         })
     })
+    .filter(Spread::tells)
     .collect()
 }
 
@@ -126,9 +135,10 @@ pub fn expected_var(m: &NoiseModel, samples: u32, dwell_s: f64) -> f64 {
     n / (n - 1.0) * (m.mean_cov(0.0, ts, ts, true) - m.mean_cov(0.0, dwell_s, dwell_s, true))
 }
 
-/// A dwell's sample standard deviation drawn under `m` for its `samples` (the chi-square of
-/// `samples - 1` degrees of freedom, by Wilson and Hilferty's cube past 30).
+/// A dwell's sample standard deviation drawn under `m` for its `samples`, at least 2 (the
+/// chi-square of `samples - 1` degrees of freedom, by Wilson and Hilferty's cube past 30).
 pub fn draw(rng: &mut Rng, m: &NoiseModel, samples: u32, dwell_s: f64) -> f64 {
+    let samples = samples.max(2);
     let nu = f64::from(samples - 1);
     let chi2 = if samples <= 31 {
         (1..samples).map(|_| rng.gauss().powi(2)).sum::<f64>()

@@ -534,5 +534,5 @@ fn a_sample_spread_of_zero_over_many_samples_is_said() {
         "{:?}",
         said
     );
-    assert_eq!(r.rows[3].rate_sd_dph, Some(0.0), "used as given");
+    assert_eq!(r.rows[3].rate_sd_dph, Some(0.0), "kept as written");
 }
