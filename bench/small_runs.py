@@ -8,6 +8,11 @@ over the rest, the share within 1 sigma (0.68 for an honest sigma), the count be
 the median sigma.
 
     python3 bench/small_runs.py RUNS NF [NF ...]
+    python3 bench/small_runs.py RUNS NF --diagnose
+
+`--diagnose`: eight positions (the fewest `nf diagnose` takes) through `nf diagnose`: the runs
+where a catalogue effect is named (false alarms: there is none), the final's RMS of
+error/sigma and the count beyond 3 sigma.
 """
 import json, math, os, random, subprocess, sys, tempfile
 
@@ -47,7 +52,29 @@ def z_of(nf, path, psi):
     return ((j["azimuth_deg"] - psi + 180) % 360 - 180) * 3600 / j["sigma_arcsec"], j["sigma_arcsec"]
 
 
+NOISE_TERMS = ("bias_instability", "rate_random_walk", "correlated_noise", "heavy_tails")
+
+
+def diagnose(runs, nf):
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "r.csv")
+        for kind in EXTRA:
+            alarms, zs = 0, []
+            for s in range(runs):
+                psi = write(path, 8, 7000 + s, kind)
+                out = subprocess.run([nf, "diagnose", path, "--json"], capture_output=True, text=True, check=True)
+                j = json.loads(out.stdout)
+                alarms += any(f["effect"] not in NOISE_TERMS for f in j["findings"])
+                error = ((j["final"]["azimuth_deg"] - psi + 180) % 360 - 180) * 3600
+                zs.append(error / j["final"]["sigma_arcsec"])
+            rms = math.sqrt(sum(z * z for z in zs) / len(zs))
+            print(f"n = 8, {kind}: false alarms {alarms}, final RMS z {rms:.2f}, beyond 3 {sum(abs(z) > 3 for z in zs)}",
+                  flush=True)
+
+
 def main():
+    if "--diagnose" in sys.argv:
+        return diagnose(int(sys.argv[1]), sys.argv[2])
     runs, nfs = int(sys.argv[1]), sys.argv[2:]
     with tempfile.TemporaryDirectory() as tmp:
         for kind in EXTRA:

@@ -22,6 +22,18 @@ struct Stats {
     calibration: f64,
 }
 
+/// A level instrument with `noise`, its azimuth drawn from `rng`.
+fn level_twin(noise: NoiseModel, seed: u64, rng: &mut Rng) -> TwinConfig {
+    let mut twin = TwinConfig {
+        seed,
+        noise,
+        ..TwinConfig::default()
+    };
+    twin.instrument.psi_deg = rng.uniform(0.0, 360.0);
+    twin.instrument.tilt_deg = 0.0;
+    twin
+}
+
 fn run(noise: NoiseModel, positions: u16, order: Order, seeds: u64) -> Stats {
     run_shocked(noise, Shocks::NONE, positions, order, seeds)
 }
@@ -31,14 +43,8 @@ fn run_shocked(noise: NoiseModel, shocks: Shocks, positions: u16, order: Order, 
     let mut rng = Rng::new(11);
     let (mut zg, mut zo, mut eg, mut eo, mut ek, mut cal) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     for seed in 0..seeds {
-        let mut twin = TwinConfig {
-            seed: 1000 + seed,
-            noise,
-            shocks,
-            ..TwinConfig::default()
-        };
-        twin.instrument.psi_deg = rng.uniform(0.0, 360.0);
-        twin.instrument.tilt_deg = 0.0;
+        let mut twin = level_twin(noise, 1000 + seed, &mut rng);
+        twin.shocks = shocks;
         twin.start_deg = rng.uniform(0.0, 360.0);
         let cfg = RunConfig {
             positions,
@@ -190,13 +196,7 @@ fn four_positions(spread: bool, seeds: u64) -> (f64, f64) {
     let noise = NoiseModel::white(SW, 1.0);
     let (mut ratios, mut z2) = (Vec::new(), 0.0);
     for seed in 0..seeds {
-        let mut twin = TwinConfig {
-            seed: 500 + seed,
-            noise,
-            ..TwinConfig::default()
-        };
-        twin.instrument.psi_deg = rng.uniform(0.0, 360.0);
-        twin.instrument.tilt_deg = 0.0;
+        let twin = level_twin(noise, 500 + seed, &mut rng);
         let cfg = RunConfig {
             positions: 4,
             dwell_ms: 1000,

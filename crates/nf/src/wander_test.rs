@@ -15,6 +15,7 @@
 use crate::gls::{Cov, WindowSet};
 use crate::linfit;
 use crate::quarter_contrasts::{Part, QuarterContrasts};
+use crate::sample_spread::{SampleSpread, Spread};
 use crate::stats::f_sf;
 use nf_model::noise::NoiseModel;
 use std::cell::OnceCell;
@@ -29,6 +30,7 @@ const REFINE: usize = 4;
 pub struct WanderTest {
     windows: WindowSet,
     quarters: QuarterContrasts,
+    spread: SampleSpread,
     starts: Vec<Start>,
     /// Whether a ratio may be read against draws of the null ([`Null::p_drawn`]).
     draws: bool,
@@ -40,7 +42,7 @@ struct Start {
     model: NoiseModel,
     cov: Cov,
     /// `-2 ln L` less the dwell means' whitened RSS: the covariances' log-determinants (the
-    /// constant's contrast taken out) and the quarters' share.
+    /// constant's contrast taken out) and the share of the quarters or the samples' spread.
     fixed: Part,
 }
 
@@ -58,10 +60,17 @@ impl Start {
 impl WanderTest {
     /// `models`: flicker-and-walk models the recording allows (any white level), the starts of
     /// each search beside white noise. `None` when none of them is usable.
-    pub fn new(t_s: &[f64], dwell_s: f64, quarters: &[[f64; 4]], models: &[NoiseModel]) -> Option<WanderTest> {
+    pub fn new(
+        t_s: &[f64],
+        dwell_s: f64,
+        quarters: &[[f64; 4]],
+        spread: &[Spread],
+        models: &[NoiseModel],
+    ) -> Option<WanderTest> {
         let mut test = WanderTest {
             windows: WindowSet::new(t_s, &vec![dwell_s; t_s.len()]),
             quarters: QuarterContrasts::new(quarters, dwell_s),
+            spread: SampleSpread::new(spread, dwell_s),
             starts: Vec::new(),
             draws: false,
         };
@@ -103,7 +112,7 @@ impl WanderTest {
             quad: 0.0,
             count: n - 1,
         };
-        let fixed = dwells.plus(self.quarters.part(&model)?);
+        let fixed = dwells.plus(self.quarters.part(&model)?).plus(self.spread.part(&model)?);
         Some(Start { model, cov, fixed })
     }
 
@@ -133,9 +142,10 @@ impl WanderTest {
         })
     }
 
-    /// The observations the likelihood sees: the dwell means' contrasts and the quarters'.
+    /// The observations the likelihood sees: the dwell means' contrasts and the quarters' or
+    /// the spread's.
     fn count(&self) -> usize {
-        self.windows.count() - 1 + self.quarters.count()
+        self.windows.count() - 1 + self.quarters.count() + self.spread.count()
     }
 
     /// The log-likelihood of `y ~ cols + extra` under `s`.
@@ -283,7 +293,7 @@ impl Null<'_> {
     }
 
     /// The p-value of `extra` from rates drawn from the null's fit and noise model (the
-    /// quarters kept): the share of draws whose likelihood ratio reaches the recording's. A
+    /// quarters or spread kept): the share of draws whose likelihood ratio reaches the recording's. A
     /// walk's slow wander is one number in one run, so the ratio's law under it is far from
     /// the F law: under a walk of about a dwell mean's noise per dwell, a curve's F p-value
     /// was below 0.01 in 19 of 60 runs of 36 dwells, the drawn one in 1. The ratio here is
@@ -482,7 +492,7 @@ mod tests {
         let cols = vec![vec![1.0; n], t.iter().map(|v| (v / 5.0).cos()).collect()];
         let y: Vec<f64> = (0..n).map(|i| 0.3 * cols[1][i] + 0.01 * rng.gauss()).collect();
         let models = [walk(0.0), walk(0.5), walk(5.0)];
-        let test = WanderTest::new(&t, 1.0, &[], &models).unwrap();
+        let test = WanderTest::new(&t, 1.0, &[], &[], &models).unwrap();
         let ours: Vec<f64> = models
             .iter()
             .map(|m| test.loglik(&test.start(unit(m)).unwrap(), &cols, &y, &[]).unwrap())
@@ -509,7 +519,7 @@ mod tests {
 
     fn p_of(n: usize, rrw: f64, drift: f64, seed: u64) -> f64 {
         let r = run(n, rrw, drift, seed);
-        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[]).unwrap();
+        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
         test.null(&r.cols, &r.y)
             .unwrap()
             .p_value(std::slice::from_ref(&r.t))
@@ -539,7 +549,7 @@ mod tests {
             let (mut f, mut drawn) = (0, 0);
             for seed in 0..60 {
                 let r = run(n, rrw, drift, 500 + seed);
-                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[]).unwrap().drawing();
+                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 f += usize::from(null.p_value(&curve(&r)).unwrap() < level);
                 drawn += usize::from(null.p_drawn(&curve(&r), 400).unwrap() < level);
@@ -560,7 +570,7 @@ mod tests {
         let mut ratios: Vec<f64> = (0..30)
             .map(|s| {
                 let r = run(72, 2.0, 0.0, 100 + s);
-                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[]).unwrap();
+                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 // The white level of the quarters: 0.02 deg/h over a quarter second.
                 let white = 0.02 * 0.25f64.sqrt() / 60.0;

@@ -126,7 +126,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         // frequency can differ, so the effects it can mimic are also asked of the wander
         // test, started from the given model too.
         let wander = (n <= THINNED)
-            .then(|| WanderTest::new(&d.t, dwell_s, quarters, &[*m]))
+            .then(|| WanderTest::new(&d.t, dwell_s, quarters, &short.spread, &[*m]))
             .flatten();
         return Ok(Noise {
             model: *m,
@@ -178,7 +178,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         };
         let mut starts = near(&e);
         starts.extend(with_drift.as_ref().map(near).unwrap_or_default());
-        WanderTest::new(&d.t, dwell_s, quarters, &starts).map(WanderTest::drawing)
+        WanderTest::new(&d.t, dwell_s, quarters, &short.spread, &starts).map(WanderTest::drawing)
     };
     Ok(Noise {
         wander,
