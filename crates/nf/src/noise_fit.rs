@@ -7,7 +7,7 @@ use crate::linfit;
 use crate::noise_calib::{self, Calibration, Verdict};
 use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned, scaled};
 use crate::recording::{Recording, Row};
-use crate::sample_spread::{self, SampleSpread};
+use crate::sample_spread;
 use crate::shock_fit::{self, ShockFit};
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
@@ -194,7 +194,7 @@ pub fn fit(
             let source = NoiseSource::Estimated {
                 dof: g.dof,
                 from_quarters: quarters.len(),
-                from_spread: SampleSpread::new(&spread, dwell_s).dwells(),
+                from_spread: spread.len(),
                 one_in: g.one_in,
                 calibration: g.calibration,
                 colours,

@@ -19,7 +19,7 @@ use crate::gls::WindowSet;
 use crate::linfit;
 use crate::noise_est::{self, Candidate, THINNED, Term, Thinned};
 use crate::noise_fit::{NoiseChoice, dwell_of};
-use crate::sample_spread::{self, SampleSpread, Spread};
+use crate::sample_spread::{self, Spread};
 use crate::wander_test::WanderTest;
 use nf_model::noise::NoiseModel;
 
@@ -196,7 +196,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
                 (_, 0) => format!("{used} of the {n} (one in {every})"),
                 (_, held) => format!("{used} of the {n} (one in {every}, {held} held out as bursts)"),
             },
-            match (quarters.len(), SampleSpread::new(&short.spread, dwell_s).dwells()) {
+            match (quarters.len(), short.spread.len()) {
                 (0, 0) => String::new(),
                 (0, s) => format!(" and the samples' spread in {s} dwells"),
                 (q, _) => format!(" and the quarter means of {q} dwells"),
