@@ -187,10 +187,13 @@ def fit_row(nf, path, rows, effect):
                                       text=True, check=True).stdout)
         e = err(f["azimuth_deg"], psi)
         z.append(e / f["sigma_arcsec"])
-        white.append(e / f["ols"]["sigma_arcsec"])
+        # Three positions leave no residual, and white least squares no sigma.
+        if f["ols"]["sigma_arcsec"] is not None:
+            white.append(e / f["ols"]["sigma_arcsec"])
     z, white = np.array(z), np.array(white)
+    rms_white = f"{np.sqrt(np.mean(white * white)):.2f}" if len(white) else "-"
     print(f"{effect:<20} {len(z):>4} {np.sqrt(np.mean(z * z)):>10.2f} {np.sum(abs(z) > 3):>7}"
-          f" {np.sqrt(np.mean(white * white)):>15.2f}", flush=True)
+          f" {rms_white:>15}", flush=True)
 
 
 def main():

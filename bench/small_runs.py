@@ -3,7 +3,7 @@
 white Gaussian samples (400 a dwell, 0.6 deg/h each: 0.06 deg/h per quarter, 0.03 deg/h per
 10 s dwell mean), positions evenly over a turn, 12 s apart, random latitude (-60 to 60 deg)
 and azimuth; the dwell means alone, with the samples' spread (`rate_sd_dph`, `samples`), or
-with the quarter columns. Per row: recordings said to be unresolved, RMS of error/sigma
+with the quarter columns (which alone allow three positions). Per row: recordings said to be unresolved, RMS of error/sigma
 over the rest, the share within 1 sigma (0.68 for an honest sigma), the count beyond 3 and
 the median sigma.
 
@@ -78,7 +78,8 @@ def main():
     runs, nfs = int(sys.argv[1]), sys.argv[2:]
     with tempfile.TemporaryDirectory() as tmp:
         for kind in EXTRA:
-            for n in (4, 5, 6, 8, 10):
+            # Three positions leave the dwell means nothing to measure the noise by.
+            for n in (3, 4, 5, 6, 8, 10) if kind != "bare" else (4, 5, 6, 8, 10):
                 cases = []
                 for s in range(runs):
                     path = os.path.join(tmp, f"n{n}_{kind}_{s}.csv")

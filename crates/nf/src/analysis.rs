@@ -97,7 +97,8 @@ pub struct Analysis {
     pub amplitude_predicted_dph: f64,
     pub budget_paper: Budget<f64>,
     pub budget_exact: Budget<f64>,
-    /// Gyro noise per position estimated from the residuals.
+    /// Gyro noise per position estimated from the residuals (where none are left, the noise
+    /// model's white noise of a dwell mean).
     pub sigma_gyro_dph: f64,
     /// The azimuth under the gyro's noise model (generalised least squares): the result.
     pub gls: NoiseFit,
@@ -136,11 +137,15 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
     gls.sigma_psi_deg = sigma_psi.hypot(sigma_inclinometer_deg);
     gls.sigma_amplitude_dph = sigma_amplitude;
     let n = fit.n;
-    let sigma_gyro_dph = fit.s2.sqrt();
+    // With no residual left, the gyro's noise per position is the noise model's.
+    let sigma_gyro_dph = match fit.dof {
+        0 => gls.model.white_mean_sd_dph(gls.dwell_s),
+        _ => fit.s2.sqrt(),
+    };
     // With the tilt measured, what is left of it is the inclinometer's uncertainty.
     let sigma_tilt = match (method, shaft) {
         (TiltMethod::Exact, Some(s)) => s.rms_deg * (2.0 / n as f64).sqrt(),
-        (TiltMethod::FirstOrder, _) => tilt_x_scatter(rec) * (2.0 / n as f64).sqrt(),
+        (TiltMethod::FirstOrder, _) => tilt_x_scatter(rec).map_or(opt.sigma_tilt_deg, |s| s * (2.0 / n as f64).sqrt()),
         _ => opt.sigma_tilt_deg,
     };
     let sig = Sigmas {
@@ -204,8 +209,13 @@ fn plain_holding_out(rec: &Recording, method: TiltMethod, cfg: FitConfig<f64>) -
             })
             .collect();
         let residuals: Vec<f64> = points.iter().map(|p| p[4]).collect();
-        let mut found = far_off::find(&residuals, &kept);
-        found.extend(studentised_wild(cfg, rec, &tilt.corrections, &kept, &fit, &residuals));
+        // As many positions as unknowns: the fit passes through every one, and none can be
+        // judged against the others.
+        let mut found = Vec::new();
+        if fit.dof > 0 {
+            found = far_off::find(&residuals, &kept);
+            found.extend(studentised_wild(cfg, rec, &tilt.corrections, &kept, &fit, &residuals));
+        }
         found.sort_unstable();
         found.dedup();
         let hold = far_off::to_hold(&found, rec.rows.len(), cfg.terms().unwrap_or(usize::MAX));
@@ -309,19 +319,21 @@ fn out_of<T: Clone>(all: &[T], out: &[usize]) -> Vec<T> {
         .collect()
 }
 
-/// Scatter (deg) of the inclinometer X readings about their tilt circle `C + A cos + B sin`.
-fn tilt_x_scatter(rec: &Recording) -> f64 {
+/// Scatter (deg) of the inclinometer X readings about their tilt circle `C + A cos + B sin`;
+/// `None` where three readings leave the circle none.
+fn tilt_x_scatter(rec: &Recording) -> Option<f64> {
     let obs: Vec<Obs<f64>> = rec
         .rows
         .iter()
         .filter_map(|r| Some(Obs::new(r.encoder_deg, r.tilt_x_deg?)))
         .collect();
     match AzimuthFit::fit_all(FitConfig::default(), &obs) {
-        Ok(f) if f.s2.is_finite() => f.s2.sqrt(),
+        Ok(f) if f.dof == 0 => None,
+        Ok(f) if f.s2.is_finite() => Some(f.s2.sqrt()),
         // A level shaft has no circle to fit: the readings' own spread is the scatter.
         _ => {
             let m = obs.iter().map(|o| o.rate_dph).sum::<f64>() / obs.len() as f64;
-            (obs.iter().map(|o| (o.rate_dph - m).powi(2)).sum::<f64>() / (obs.len().max(2) - 1) as f64).sqrt()
+            Some((obs.iter().map(|o| (o.rate_dph - m).powi(2)).sum::<f64>() / (obs.len().max(2) - 1) as f64).sqrt())
         }
     }
 }

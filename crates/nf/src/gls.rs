@@ -238,7 +238,7 @@ pub struct Gls {
 /// GLS of `y ~ cols` under the factored covariance `cov`; `None` when the columns are dependent.
 pub fn fit(cols: &[Vec<f64>], y: &[f64], cov: &Cov) -> Option<Gls> {
     let wcols: Vec<Vec<f64>> = cols.iter().map(|c| cov.whiten(c)).collect();
-    let ls = linfit::fit(&wcols, &cov.whiten(y))?;
+    let ls = linfit::fit_exact(&wcols, &cov.whiten(y))?;
     let resid = (0..y.len())
         .map(|i| y[i] - cols.iter().zip(&ls.coef).map(|(c, b)| c[i] * b).sum::<f64>())
         .collect();

@@ -27,10 +27,21 @@ impl Ls {
     }
 }
 
-/// Fits `y ~ cols`; `None` when the columns are (numerically) dependent or too many.
+/// Fits `y ~ cols`; `None` when the columns are (numerically) dependent or too many to leave
+/// a residual degree of freedom.
 pub fn fit(cols: &[Vec<f64>], y: &[f64]) -> Option<Ls> {
+    solve(cols, y, 1)
+}
+
+/// As [`fit`], but as many rows as columns are allowed: an exact fit, for a noise known from
+/// elsewhere (GLS under a given covariance).
+pub fn fit_exact(cols: &[Vec<f64>], y: &[f64]) -> Option<Ls> {
+    solve(cols, y, 0)
+}
+
+fn solve(cols: &[Vec<f64>], y: &[f64], min_dof: usize) -> Option<Ls> {
     let (n, p) = (y.len(), cols.len());
-    if p == 0 || n <= p {
+    if p == 0 || n < p + min_dof {
         return None;
     }
     let mut q: Vec<Vec<f64>> = cols.to_vec();
@@ -101,5 +112,18 @@ mod tests {
         assert!((l.hat.iter().sum::<f64>() - 2.0).abs() < 1e-12);
         assert!((l.cov_unit[1][1] - 0.1).abs() < 1e-12);
         assert!(fit(&[vec![1.0; 5], vec![2.0; 5]], &y).is_none());
+    }
+
+    #[test]
+    fn an_exact_fit_passes_through_as_many_rows_as_columns() {
+        let cols = [vec![1.0, 1.0], vec![0.0, 2.0]];
+        let y = [3.0, 7.0];
+        assert!(fit(&cols, &y).is_none());
+        let l = fit_exact(&cols, &y).unwrap();
+        assert!((l.coef[0] - 3.0).abs() < 1e-12 && (l.coef[1] - 2.0).abs() < 1e-12);
+        assert!(l.dof == 0 && l.rss < 1e-20);
+        // No residual: no variance from it.
+        assert!(l.s2().is_nan());
+        assert!(fit_exact(&cols, &y[..1]).is_none());
     }
 }

@@ -333,6 +333,17 @@ impl Grid {
         }
     }
 
+    /// White noise alone, as a grid of one model.
+    fn white() -> Grid {
+        Grid {
+            family: Family::Wander,
+            a: vec![0.0],
+            b: vec![0.0],
+            coarse_a: vec![true],
+            coarse_b: vec![true],
+        }
+    }
+
     /// A Gauss-Markov bias: its variance 1e-4 to 1e4 units, its time in half decades from
     /// three spacings of the dwells to the run. Shorter, it is extra noise of each dwell mean
     /// that flicker's short end makes as well; longer, a walk.
@@ -462,6 +473,9 @@ pub enum Colours {
     /// heavy-tailed dwell means (`nf fit`), whose excess over their quarters is shocks, white
     /// from dwell to dwell, which flicker would take for wander.
     WithShocks,
+    /// None: as many positions as unknowns leave the dwell means no contrast to show a
+    /// colour by, and the quarters or the samples' spread measure the white level alone.
+    White,
 }
 
 /// Estimates white noise and `colours` from a recording.
@@ -475,9 +489,12 @@ pub fn estimate(data: Data<'_>, colours: Colours) -> Option<Estimate> {
 pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]], colours: Colours) -> Vec<Option<Estimate>> {
     let p = Problem::new(data, more);
     let (ub, uk) = p.units();
-    let mut grids = vec![Grid::wander(ub, uk)];
+    let mut grids = vec![match colours {
+        Colours::White => Grid::white(),
+        _ => Grid::wander(ub, uk),
+    }];
     match colours {
-        Colours::FlickerAndWalk => {}
+        Colours::FlickerAndWalk | Colours::White => {}
         Colours::WithGaussMarkov => grids.push(Grid::gauss_markov(ub, p.spacing(), p.span())),
         Colours::WithShocks => grids.push(Grid::short_gauss_markov(ub, p.data.dwell_s, p.spacing())),
     }

@@ -71,6 +71,9 @@ impl NoiseSource {
                     Colours::WithShocks => {
                         "; the dwell means are heavy-tailed: read as shocks (a Gauss-Markov bias shorter than three dwell spacings searched too), not as wander, and each dwell weighed by how likely a shock struck it"
                     }
+                    Colours::White => {
+                        "; white: as many positions as unknowns leave the dwell means no contrast to show a colour by, so the noise between dwells is taken to be what their insides show"
+                    }
                     _ => "",
                 };
                 format!(
@@ -162,15 +165,17 @@ pub fn fit(
     let cols: Vec<Vec<f64>> = (0..p).map(|k| rows.iter().map(|r| r[k]).collect()).collect();
     let t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
     let (dwell_s, dwell_from) = dwell_of(rec);
-    if n <= p {
+    let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    let spread = sample_spread::of_rows(rec.rows.iter(), n.saturating_sub(p));
+    // As many positions as unknowns leave the noise to a given model or to the dwells' insides.
+    let within = !quarters.is_empty() || !spread.is_empty() || matches!(choice, NoiseChoice::Given(..));
+    if n < p || (n == p && !within) {
         return Err(format!(
             "{n} positions for {p} unknowns: no degrees of freedom are left to measure the noise by, so the azimuth's uncertainty is undefined; the fit needs at least {}",
             p + 1
         ));
     }
-    let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
-    let spread = sample_spread::of_rows(rec.rows.iter(), n - p);
-    let colours = colours_of(&cols, y);
+    let colours = if n == p { Colours::White } else { colours_of(&cols, y) };
     let windows = WindowSet::new(&t, &vec![dwell_s; n]);
     let data = Data {
         t_s: &t,

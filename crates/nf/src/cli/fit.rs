@@ -102,12 +102,20 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         ..Options::default()
     };
     // Too few positions, or a shaft that did not turn, is bad input, like a malformed line.
+    // The noise needs a residual degree of freedom unless it is given or the dwells' insides
+    // (quarter means, samples' spread) show it.
+    let within = a.noise.any()
+        || rec.rows.iter().any(|r| r.quarters_dph.is_some())
+        || !crate::sample_spread::of_rows(rec.rows.iter(), 0).is_empty();
     rec.require_turning()
         .and_then(|_| {
-            rec.require_positions(
-                opt.fit_config().terms().unwrap_or(3) + 1,
-                "this fit (its unknowns and one degree of freedom for the noise)",
-            )
+            match within {
+                true => rec.require_positions(opt.fit_config().terms().unwrap_or(3), "this fit (one for each unknown)"),
+                false => rec.require_positions(
+                    opt.fit_config().terms().unwrap_or(3) + 1,
+                    "this fit without quarter means, samples' spread or a given noise model (its unknowns and one degree of freedom for the noise)",
+                ),
+            }
         })
         .map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;
     // Each bootstrap replicate costs a noise estimate: past 2000 positions that is seconds.
@@ -198,13 +206,21 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             lines_text(&s.struck)
         )?;
     }
-    writeln!(
-        out,
-        "white LS       psi {:.5} deg +- {:.2} arcsec (sigma from the residuals, {} dof: too small when the noise is coloured)",
-        f.psi_deg,
-        f.sigma_psi_deg * 3600.0,
-        f.dof
-    )?;
+    if f.dof == 0 {
+        writeln!(
+            out,
+            "white LS       psi {:.5} deg (no sigma from the residuals: as many positions as unknowns leave none)",
+            f.psi_deg
+        )?;
+    } else {
+        writeln!(
+            out,
+            "white LS       psi {:.5} deg +- {:.2} arcsec (sigma from the residuals, {} dof: too small when the noise is coloured)",
+            f.psi_deg,
+            f.sigma_psi_deg * 3600.0,
+            f.dof
+        )?;
+    }
     writeln!(
         out,
         "amplitude      {:.5} +- {:.5} deg/h  (latitude predicts {:.5}: scale factor {:.5})",
@@ -213,16 +229,21 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         an.amplitude_predicted_dph,
         g.amplitude_dph / an.amplitude_predicted_dph
     )?;
-    writeln!(
-        out,
-        "bias (offset)  {:.5} +- {:.5} deg/h",
-        f.offset_dph, f.sigma_offset_dph
-    )?;
-    writeln!(
-        out,
-        "residuals      RSS {:.6e} (deg/h)^2, rms {:.5} deg/h",
-        f.rss, an.sigma_gyro_dph
-    )?;
+    if f.dof == 0 {
+        writeln!(out, "bias (offset)  {:.5} deg/h", f.offset_dph)?;
+        writeln!(out, "residuals      none: the fit passes through every position")?;
+    } else {
+        writeln!(
+            out,
+            "bias (offset)  {:.5} +- {:.5} deg/h",
+            f.offset_dph, f.sigma_offset_dph
+        )?;
+        writeln!(
+            out,
+            "residuals      RSS {:.6e} (deg/h)^2, rms {:.5} deg/h",
+            f.rss, an.sigma_gyro_dph
+        )?;
+    }
     match (an.method, an.shaft) {
         (TiltMethod::Exact, Some(s)) => writeln!(
             out,
