@@ -848,7 +848,7 @@ fn a_short_run_uses_the_spreads_that_tell_one_and_says_so() {
         text += &format!("{k},{},{g},{rate},{sd},{samples}\n", 5 + 12 * k);
     }
     let file = tmp("short_spread.csv");
-    std::fs::write(&file, text).unwrap();
+    std::fs::write(&file, &text).unwrap();
     let (code, out, err) = nf(&["fit", &file, "--json"]);
     assert_eq!(code, 0, "{err}");
     let j: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -857,4 +857,20 @@ fn a_short_run_uses_the_spreads_that_tell_one_and_says_so() {
     // 0.03 deg/h a dwell mean over an amplitude of 11.5 deg/h, four positions: 0.0037 rad.
     let sigma = j["sigma_arcsec"].as_f64().unwrap();
     assert!((400.0..1500.0).contains(&sigma), "{sigma}");
+    // The mean's standard error written in place of the samples' spread (0.6 / sqrt(400)):
+    // the dwell means scatter hundreds of times what it gives, and it is left out.
+    std::fs::write(
+        &file,
+        text.replace(",0.6,400", ",0.03,400").replace(",0.62,400", ",0.031,400"),
+    )
+    .unwrap();
+    let (code, out, err) = nf(&["fit", &file, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let source = j["noise_model"]["source"].as_str().unwrap();
+    assert!(
+        source.contains("the samples' spread left out: the dwell means scatter"),
+        "{source}"
+    );
+    assert!(j["sigma_arcsec"].as_f64().unwrap() > 400.0, "{out}");
 }

@@ -30,6 +30,9 @@ pub enum NoiseSource {
         from_quarters: usize,
         /// Dwells whose samples' spread the estimate used (none where there are quarters).
         from_spread: usize,
+        /// Where the samples' spread disagreed with the dwell means and was left out: their
+        /// variance over the one it gives ([`sample_spread::Checked`]).
+        spread_refused: Option<f64>,
         /// The estimate saw one dwell mean in this many (1: all of them).
         one_in: usize,
         /// The parametric bootstrap that scaled the sigmas, when it could be run.
@@ -47,14 +50,18 @@ impl NoiseSource {
                 dof,
                 from_quarters,
                 from_spread,
+                spread_refused,
                 one_in,
                 calibration,
                 colours,
             } => {
-                let from = match (from_quarters, from_spread) {
-                    (0, 0) => String::new(),
-                    (0, s) => format!("the samples' spread in {s} dwells and "),
-                    (q, _) => format!("quarter means of {q} dwells and "),
+                let from = match (from_quarters, from_spread, spread_refused) {
+                    (0, 0, Some(r)) => format!(
+                        "the samples' spread left out: the dwell means scatter {r:.3} times the variance it gives a dwell mean, more than chance allows (is `rate_sd_dph` the samples' standard deviation, in deg/h?); "
+                    ),
+                    (0, 0, None) => String::new(),
+                    (0, s, _) => format!("the samples' spread in {s} dwells and "),
+                    (q, _, _) => format!("quarter means of {q} dwells and "),
                 };
                 let calibrated = match calibration {
                     Some(c) => format!(
@@ -166,7 +173,10 @@ pub fn fit(
     let t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
     let (dwell_s, dwell_from) = dwell_of(rec);
     let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
-    let spread = sample_spread::of_rows(rec.rows.iter(), n.saturating_sub(p));
+    let sample_spread::Checked {
+        spreads: spread,
+        refused_ratio,
+    } = sample_spread::checked(sample_spread::of_rows(rec.rows.iter(), n.saturating_sub(p)), &cols, y);
     // As many positions as unknowns leave the noise to a given model or to the dwells' insides.
     let within = !quarters.is_empty() || !spread.is_empty() || matches!(choice, NoiseChoice::Given(..));
     if n < p || (n == p && !within) {
@@ -200,6 +210,7 @@ pub fn fit(
                 dof: g.dof,
                 from_quarters: quarters.len(),
                 from_spread: spread.len(),
+                spread_refused: refused_ratio,
                 one_in: g.one_in,
                 calibration: g.calibration,
                 colours,
