@@ -109,12 +109,14 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
         || !crate::sample_spread::of_rows(rec.rows.iter(), 0).is_empty();
     rec.require_turning()
         .and_then(|_| {
-            match within {
-                true => rec.require_positions(opt.fit_config().terms().unwrap_or(3), "this fit (one for each unknown)"),
-                false => rec.require_positions(
-                    opt.fit_config().terms().unwrap_or(3) + 1,
+            let terms = opt.fit_config().terms().unwrap_or(3);
+            if within {
+                rec.require_positions(terms, "this fit (one for each unknown)")
+            } else {
+                rec.require_positions(
+                    terms + 1,
                     "this fit without quarter means, samples' spread or a given noise model (its unknowns and one degree of freedom for the noise)",
-                ),
+                )
             }
         })
         .map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;
