@@ -809,12 +809,16 @@ fn three_positions_take_their_noise_from_inside_the_dwells() {
             j["ols"]["sigma_arcsec"].is_null() && j["far_off"] == serde_json::json!([]),
             "{out}"
         );
-        let (_, text, _) = nf(&["fit", &file]);
+        let svg = tmp("three.svg");
+        let (_, text, _) = nf(&["fit", &file, "--plot", &svg]);
         assert!(
             text.contains("residuals      none: the fit passes through every position"),
             "{text}"
         );
         assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+        // Nor a residual panel of rounding errors.
+        let svg = std::fs::read_to_string(&svg).unwrap();
+        assert!(svg.contains("gyro output") && !svg.contains("residuals"), "{name}");
     }
     // Without them, a given model does; else the noise cannot be measured.
     let file = tmp("three_bare.csv");

@@ -359,33 +359,34 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
             (g, an.fit.predict(g, an.fit.t0_s, None))
         })
         .collect();
-    vec![
-        Panel {
-            title: match an.gls.unresolved(an.amplitude_predicted_dph) {
-                Some(_) => format!("gyro output: the Earth rate is NOT RESOLVED, no azimuth{not_drawn}"),
-                None => format!(
-                    "gyro output and its least-squares fit, psi = {:.4} deg{not_drawn}",
-                    an.fit.psi_deg
-                ),
-            },
-            x_label: "encoder angle gamma (deg)".into(),
-            y_label: "rate (deg/h)".into(),
-            series: vec![
-                Series {
-                    name: "measured".into(),
-                    points: drawn().map(|p| (p[0], p[2])).collect(),
-                    style: Style::Points,
-                },
-                Series {
-                    name: "fitted A cos + B sin + C".into(),
-                    points: curve,
-                    style: Style::Line,
-                },
-            ],
-            log_x: false,
-            log_y: false,
+    let mut panels = vec![Panel {
+        title: match an.gls.unresolved(an.amplitude_predicted_dph) {
+            Some(_) => format!("gyro output: the Earth rate is NOT RESOLVED, no azimuth{not_drawn}"),
+            None => format!(
+                "gyro output and its least-squares fit, psi = {:.4} deg{not_drawn}",
+                an.fit.psi_deg
+            ),
         },
-        Panel {
+        x_label: "encoder angle gamma (deg)".into(),
+        y_label: "rate (deg/h)".into(),
+        series: vec![
+            Series {
+                name: "measured".into(),
+                points: drawn().map(|p| (p[0], p[2])).collect(),
+                style: Style::Points,
+            },
+            Series {
+                name: "fitted A cos + B sin + C".into(),
+                points: curve,
+                style: Style::Line,
+            },
+        ],
+        log_x: false,
+        log_y: false,
+    }];
+    // As many positions as unknowns leave no residual: rounding's would be drawn.
+    if an.fit.dof > 0 {
+        panels.push(Panel {
             title: format!("residuals, RSS = {:.3e} (deg/h)^2{not_drawn}", an.fit.rss),
             x_label: "encoder angle gamma (deg)".into(),
             y_label: "residual (deg/h)".into(),
@@ -396,8 +397,9 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
             }],
             log_x: false,
             log_y: false,
-        },
-    ]
+        });
+    }
+    panels
 }
 
 /// What the gyro's sigma holds beyond GLS under the printed model alone, when it is more.
