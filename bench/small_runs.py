@@ -3,9 +3,9 @@
 white Gaussian samples (400 a dwell, 0.6 deg/h each: 0.06 deg/h per quarter, 0.03 deg/h per
 10 s dwell mean), positions evenly over a turn, 12 s apart, random latitude (-60 to 60 deg)
 and azimuth; the dwell means alone, with the samples' spread (`rate_sd_dph`, `samples`), or
-with the quarter columns (which alone allow three positions). Per row: recordings said to be unresolved, RMS of error/sigma
-over the rest, the share within 1 sigma (0.68 for an honest sigma), the count beyond 3 and
-the median sigma.
+with the quarter columns (the last two also on three positions). Per row: recordings said
+to be unresolved, RMS of error/sigma over the rest, the share within 1 sigma (0.68 for an
+honest sigma), the count beyond 3 and the median sigma.
 
     python3 bench/small_runs.py RUNS NF [NF ...]
     python3 bench/small_runs.py RUNS NF --diagnose
