@@ -176,7 +176,11 @@ pub fn fit(
     let sample_spread::Checked {
         spreads: spread,
         refused_ratio,
-    } = sample_spread::checked(sample_spread::of_rows(rec.rows.iter(), n.saturating_sub(p)), &cols, y);
+    } = sample_spread::checked(
+        sample_spread::of_rows(rec.rows.iter(), || n.saturating_sub(p)),
+        &cols,
+        y,
+    );
     // As many positions as unknowns leave the noise to a given model or to the dwells' insides.
     let within = !quarters.is_empty() || !spread.is_empty() || matches!(choice, NoiseChoice::Given(..));
     if n < p || (n == p && !within) {
@@ -391,7 +395,7 @@ fn shock_round(
     let quarters: Vec<[f64; 4]> = unstruck.clone().filter_map(|r| r.quarters_dph).collect();
     let spread = match data.spread {
         [] => Vec::new(),
-        _ => sample_spread::of_rows(unstruck, 0),
+        _ => sample_spread::of_rows(unstruck, || 0),
     };
     let (e, _) = estimate(
         Data {

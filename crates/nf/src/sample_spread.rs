@@ -102,21 +102,27 @@ impl SampleSpread {
 /// measures the white level, and the spread is not used.
 pub const FEW_DOF: usize = 6;
 
-/// The spreads of `rows` that have one, for a fit that leaves the dwell means `dof` residual
+/// The spreads of `rows` that have one, for a fit that leaves the dwell means `dof()` residual
 /// degrees of freedom; none from [`FEW_DOF`] on, or when any row has quarter means (they show
 /// the short-time noise at the scale of the dwell and are not thrown by filtered samples).
-pub fn of_rows<'a>(rows: impl Iterator<Item = &'a Row> + Clone, dof: usize) -> Vec<Spread> {
-    if dof >= FEW_DOF || rows.clone().any(|r| r.quarters_dph.is_some()) {
+/// `dof` is asked only where there are spreads: `nf diagnose` builds its design for it.
+pub fn of_rows<'a>(rows: impl Iterator<Item = &'a Row> + Clone, dof: impl FnOnce() -> usize) -> Vec<Spread> {
+    if rows.clone().any(|r| r.quarters_dph.is_some()) {
         return Vec::new();
     }
-    rows.filter_map(|r| {
-        Some(Spread {
-            sd_dph: r.rate_sd_dph?,
-            samples: r.samples?,
+    let spreads: Vec<Spread> = rows
+        .filter_map(|r| {
+            Some(Spread {
+                sd_dph: r.rate_sd_dph?,
+                samples: r.samples?,
+            })
         })
-    })
-    .filter(Spread::tells)
-    .collect()
+        .filter(Spread::tells)
+        .collect();
+    if spreads.is_empty() || dof() >= FEW_DOF {
+        return Vec::new();
+    }
+    spreads
 }
 
 /// The chance, either way, below which the dwell means' scatter is said to disagree with the

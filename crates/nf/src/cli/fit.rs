@@ -106,7 +106,7 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
     // (quarter means, samples' spread) show it.
     let within = a.noise.any()
         || rec.rows.iter().any(|r| r.quarters_dph.is_some())
-        || !crate::sample_spread::of_rows(rec.rows.iter(), 0).is_empty();
+        || !crate::sample_spread::of_rows(rec.rows.iter(), || 0).is_empty();
     rec.require_turning()
         .and_then(|_| {
             let terms = opt.fit_config().terms().unwrap_or(3);

@@ -222,7 +222,7 @@ pub(super) fn short_time(d: &Data) -> ShortTime {
     ShortTime {
         dwell_s: dwell_of(&d.rec).0,
         quarters: d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect(),
-        spread: sample_spread::of_rows(d.rec.rows.iter(), d.n().saturating_sub(design(d).len())),
+        spread: sample_spread::of_rows(d.rec.rows.iter(), || d.n().saturating_sub(design(d).len())),
     }
 }
 
