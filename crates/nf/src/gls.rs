@@ -27,6 +27,18 @@ enum Factor {
     Windows(Semisep),
 }
 
+/// `map` applied to each of the `W` vectors of a block.
+fn by_columns<const W: usize>(block: &[[f64; W]], map: impl Fn(&[f64]) -> Vec<f64>) -> Vec<[f64; W]> {
+    let mut out = vec![[0.0; W]; block.len()];
+    for b in 0..W {
+        let column: Vec<f64> = block.iter().map(|row| row[b]).collect();
+        for (row, v) in out.iter_mut().zip(map(&column)) {
+            row[b] = v;
+        }
+    }
+    out
+}
+
 /// Windows beyond which the dense fallback of [`Cov::of_windows`] is refused: its n x n matrix
 /// would take more than 32 MB, and the outlier and jump scans under it minutes.
 const DENSE_LIMIT: usize = 2000;
@@ -111,6 +123,22 @@ impl Cov {
         match &self.factor {
             Factor::Dense { n, chol } => (0..*n).map(|i| (0..=i).map(|k| chol[i * n + k] * z[k]).sum()).collect(),
             Factor::Windows(s) => s.colour(z),
+        }
+    }
+
+    /// [`Cov::whiten`] of `W` vectors side by side (row `i` holds their `i`th values).
+    pub fn whiten_block<const W: usize>(&self, v: &[[f64; W]]) -> Vec<[f64; W]> {
+        match &self.factor {
+            Factor::Dense { .. } => by_columns(v, |c| self.whiten(c)),
+            Factor::Windows(s) => s.whiten_block(v),
+        }
+    }
+
+    /// [`Cov::colour`] of `W` vectors side by side.
+    pub fn colour_block<const W: usize>(&self, z: &[[f64; W]]) -> Vec<[f64; W]> {
+        match &self.factor {
+            Factor::Dense { .. } => by_columns(z, |c| self.colour(c)),
+            Factor::Windows(s) => s.colour_block(z),
         }
     }
 
