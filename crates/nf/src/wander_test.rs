@@ -24,6 +24,10 @@ use std::cell::OnceCell;
 /// stops: it is then near 10 / draws, too large to matter.
 const EXCEEDED: usize = 10;
 
+/// Draws of the null made side by side: each factor's generators, too large for the cache
+/// over 20-30 starts, are then read once for all of them.
+const BLOCK: usize = 16;
+
 /// Halvings of the search step around the best model, from a quarter decade of B^2 and K^2.
 const REFINE: usize = 4;
 
@@ -184,37 +188,74 @@ impl WanderTest {
     }
 }
 
-/// An orthonormal basis of whitened columns, for the RSS of many rates on them.
+/// An orthonormal basis of whitened columns.
+#[derive(Default)]
 struct Basis(Vec<Vec<f64>>);
 
 impl Basis {
-    /// By Gram-Schmidt, twice over for its accuracy; a column dependent on the others adds
-    /// nothing.
-    fn of(cols: &[Vec<f64>]) -> Basis {
-        let mut q: Vec<Vec<f64>> = Vec::new();
+    /// `cols` added by Gram-Schmidt, twice over for its accuracy; a column dependent on the
+    /// others adds nothing.
+    fn extend(&mut self, cols: &[Vec<f64>]) {
         for c in cols {
             let mut v = c.clone();
             for _ in 0..2 {
-                for b in &q {
+                for b in &self.0 {
                     let d: f64 = b.iter().zip(&v).map(|(x, y)| x * y).sum();
                     v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
                 }
             }
             let norm = norm2(&v).sqrt();
             if norm > 1e-9 * norm2(c).sqrt() {
-                q.push(v.iter().map(|x| x / norm).collect());
+                self.0.push(v.iter().map(|x| x / norm).collect());
             }
         }
-        Basis(q)
+    }
+}
+
+/// The null's whitened design and the effect's columns beyond it, for the RSS of many
+/// rates under both: one basis, the null's span its first `small` vectors.
+struct Nested {
+    basis: Basis,
+    small: usize,
+}
+
+impl Nested {
+    fn of(null: &[Vec<f64>], extra: &[Vec<f64>]) -> Nested {
+        let mut basis = Basis::default();
+        basis.extend(null);
+        let small = basis.0.len();
+        basis.extend(extra);
+        Nested { basis, small }
     }
 
-    fn rss(&self, y: &[f64]) -> f64 {
-        let along: f64 = self
-            .0
-            .iter()
-            .map(|b| b.iter().zip(y).map(|(x, v)| x * v).sum::<f64>().powi(2))
-            .sum();
-        (norm2(y) - along).max(0.0)
+    /// The RSS of `BLOCK` rate vectors side by side (row `i` their `i`th values), under the
+    /// null and under the larger design.
+    fn rss_block(&self, y: &[[f64; BLOCK]]) -> [(f64, f64); BLOCK] {
+        let mut norm = [-0.0; BLOCK];
+        for row in y {
+            for b in 0..BLOCK {
+                norm[b] += row[b] * row[b];
+            }
+        }
+        let (mut along, mut small) = ([-0.0; BLOCK], [-0.0; BLOCK]);
+        for (k, q) in self.basis.0.iter().enumerate() {
+            if k == self.small {
+                small = along;
+            }
+            let mut dot = [-0.0; BLOCK];
+            for (x, row) in q.iter().zip(y) {
+                for b in 0..BLOCK {
+                    dot[b] += x * row[b];
+                }
+            }
+            for b in 0..BLOCK {
+                along[b] += dot[b].powi(2);
+            }
+        }
+        if self.small == self.basis.0.len() {
+            small = along;
+        }
+        core::array::from_fn(|b| ((norm[b] - small[b]).max(0.0), (norm[b] - along[b]).max(0.0)))
     }
 }
 
@@ -298,35 +339,36 @@ impl Null<'_> {
     /// the F law: under a walk of about a dwell mean's noise per dwell, a curve's F p-value
     /// was below 0.01 in 19 of 60 runs of 36 dwells, the drawn one in 1. The ratio here is
     /// each side's best over the starts (not refined), the recording's as the draws'; each
-    /// start's designs are factored once. Draws stop once `EXCEEDED` have reached it, or at
-    /// `most`. `None` where the test does not draw.
-    pub fn p_drawn(&self, extra: &[Vec<f64>], most: usize) -> Option<f64> {
+    /// start's designs are factored once. Draws stop once `EXCEEDED` have reached it, once
+    /// the p-value can no longer fall under `limit`, or at `most`. `None` where the test
+    /// does not draw.
+    pub fn p_drawn(&self, extra: &[Vec<f64>], most: usize, limit: f64) -> Option<f64> {
         if !self.test.draws {
             return None;
         }
         let starts = &self.test.starts;
-        let bases: Vec<(Basis, Basis)> = starts
+        let bases: Vec<Nested> = starts
             .iter()
             .zip(&self.whitened)
             .map(|(s, w)| {
-                let mut both = w.cols.clone();
-                both.extend(extra.iter().map(|c| s.cov.whiten(c)));
-                (Basis::of(&w.cols), Basis::of(&both))
+                let extra: Vec<Vec<f64>> = extra.iter().map(|c| s.cov.whiten(c)).collect();
+                Nested::of(&w.cols, &extra)
             })
             .collect();
-        let liks = |i: usize, y: &[f64]| -> Option<(f64, f64)> {
-            let (b0, b1) = &bases[i];
-            Some((starts[i].loglik(b0.rss(y))?, starts[i].loglik(b1.rss(y))?))
-        };
-        let ratio = |white_y: &dyn Fn(usize) -> Vec<f64>| -> Option<f64> {
-            let (mut small, mut large) = (f64::MIN, f64::MIN);
-            for i in 0..starts.len() {
-                let (l0, l1) = liks(i, &white_y(i))?;
-                (small, large) = (small.max(l0), large.max(l1));
+        // Each side's best over the starts, per draw.
+        let ratios = |white: &dyn Fn(usize) -> Vec<[f64; BLOCK]>| -> [Option<f64>; BLOCK] {
+            let mut best = [Some((f64::MIN, f64::MIN)); BLOCK];
+            for (i, (start, basis)) in starts.iter().zip(&bases).enumerate() {
+                for (b, rss) in basis.rss_block(&white(i)).into_iter().enumerate() {
+                    best[b] = best[b]
+                        .zip(start.loglik(rss.0))
+                        .zip(start.loglik(rss.1))
+                        .map(|(((small, large), l0), l1)| (small.max(l0), large.max(l1)));
+                }
             }
-            Some((2.0 * (large - small)).max(0.0))
+            best.map(|b| b.map(|(small, large)| (2.0 * (large - small)).max(0.0)))
         };
-        let observed = ratio(&|i| self.whitened[i].y.clone())?;
+        let observed = ratios(&|i| self.whitened[i].y.iter().map(|&v| [v; BLOCK]).collect())[0]?;
         let (mean, level) = self.fitted()?;
         let seed = self
             .y
@@ -334,13 +376,24 @@ impl Null<'_> {
             .fold(self.y.len() as u64, |h, v| h.rotate_left(7) ^ v.to_bits());
         let mut rng = nf_model::rng::Rng::new(seed);
         let (mut drawn, mut reached) = (0usize, 0usize);
-        while drawn < most && reached < EXCEEDED {
-            let z: Vec<f64> = mean.iter().map(|_| rng.gauss()).collect();
-            let noise = self.best.cov.colour(&z);
-            let y: Vec<f64> = mean.iter().zip(&noise).map(|(m, e)| m + level.sqrt() * e).collect();
-            let l = ratio(&|i| starts[i].cov.whiten(&y))?;
-            drawn += 1;
-            reached += usize::from(l >= observed);
+        'draws: loop {
+            let mut z = vec![[0.0; BLOCK]; mean.len()];
+            for b in 0..BLOCK {
+                z.iter_mut().for_each(|row| row[b] = rng.gauss());
+            }
+            let noise = self.best.cov.colour_block(&z);
+            let y: Vec<[f64; BLOCK]> = mean
+                .iter()
+                .zip(&noise)
+                .map(|(m, e)| e.map(|e| m + level.sqrt() * e))
+                .collect();
+            for l in ratios(&|i| starts[i].cov.whiten_block(&y)) {
+                if drawn == most || reached == EXCEEDED || (1 + reached) as f64 >= limit * (1 + most) as f64 {
+                    break 'draws;
+                }
+                drawn += 1;
+                reached += usize::from(l? >= observed);
+            }
         }
         Some((1 + reached) as f64 / (1 + drawn) as f64)
     }
@@ -552,7 +605,7 @@ mod tests {
                 let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 f += usize::from(null.p_value(&curve(&r)).unwrap() < level);
-                drawn += usize::from(null.p_drawn(&curve(&r), 400).unwrap() < level);
+                drawn += usize::from(null.p_drawn(&curve(&r), 400, level).unwrap() < level);
             }
             println!("n {n} rrw {rrw} drift {drift}: below {level}: F {f}, drawn {drawn} of 60");
             (f, drawn)
@@ -562,6 +615,31 @@ mod tests {
         assert!(f >= 10 && drawn <= 3, "F {f}, drawn {drawn}");
         let (_, drawn) = below(72, 0.0, 1.5e-3, 0.01);
         assert!(drawn >= 50, "{drawn} of 60 drifts");
+    }
+
+    #[test]
+    fn draws_stopped_at_the_level_decide_as_all_of_them_would() {
+        let curve = |r: &SweepRun| vec![r.t.clone(), r.t.iter().map(|v| v * v).collect()];
+        let mut decided = [0, 0];
+        for seed in 0..12 {
+            let r = run(36, 0.5, 4e-4 * (seed % 3) as f64, 700 + seed);
+            let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
+            let null = test.null(&r.cols, &r.y).unwrap();
+            let all = null.p_drawn(&curve(&r), 400, 1.0).unwrap();
+            for level in [0.004, 0.01, 0.05] {
+                let stopped = null.p_drawn(&curve(&r), 400, level).unwrap();
+                assert_eq!(
+                    stopped < level,
+                    all < level,
+                    "seed {seed} level {level}: {stopped} and {all}"
+                );
+                if stopped < level {
+                    assert_eq!(stopped, all, "seed {seed}");
+                }
+                decided[usize::from(all < level)] += 1;
+            }
+        }
+        assert!(decided[0] > 0 && decided[1] > 0, "{decided:?}");
     }
 
     #[test]

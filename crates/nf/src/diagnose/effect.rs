@@ -50,6 +50,22 @@ pub struct Proposal {
     pub scanned: usize,
     /// The effect's own test's p-value where the wander test raised `p`.
     pub own_p: Option<f64>,
+    /// Where the wander test's ratio stands against draws of its null.
+    pub draws: Draws,
+}
+
+/// Whether a proposal's wander test is read against draws of its null.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Draws {
+    /// Not asked: its p-value is final.
+    No,
+    /// To be read once the step's level is known ([`State::read_draws`]).
+    Pending,
+    /// Read: `p` is at least their p-value.
+    Read,
+    /// Not made, the F law's p-value being at or above the step's level already: `p` is a
+    /// lower bound of the test's.
+    Skipped,
 }
 
 /// A fit of the model on columns whitened by one noise model.
@@ -80,6 +96,7 @@ impl Frame<'_> {
             location,
             scanned: 0,
             own_p: None,
+            draws: Draws::No,
         })
     }
 }
@@ -138,14 +155,39 @@ impl State<'_> {
         {
             let pw = match law {
                 Law::F { scan } => (pw * scan as f64).min(1.0),
-                // Drawn only where it can matter; never below the F law's.
-                Law::Drawn if pw < self.alpha => null.p_drawn(cols, DRAWS).map_or(pw, |d| d.max(pw)),
-                Law::Drawn => pw,
+                Law::Drawn => {
+                    p.draws = Draws::Pending;
+                    pw
+                }
             };
             p.own_p = Some(p.p);
             p.p = p.p.max(pw);
         }
         p
+    }
+}
+
+impl State<'_> {
+    /// `p` raised to the p-value of the wander test's ratio against draws of its null (never
+    /// below the F law's), where that can decide: where `p` is under the step's level
+    /// `limit`. Above it the effect is not named whatever the draws say, and they are not
+    /// made; the draws stop once their p-value cannot fall under it.
+    pub fn read_draws(&self, p: &mut Proposal, limit: f64) {
+        if p.draws != Draws::Pending {
+            return;
+        }
+        if p.p >= limit {
+            p.draws = Draws::Skipped;
+            return;
+        }
+        p.draws = Draws::No;
+        if let Change::Columns(cols) = &p.change
+            && let Some(null) = self.wander.get()
+            && let Some(d) = null.p_drawn(cols, DRAWS, limit)
+        {
+            p.p = p.p.max(d);
+            p.draws = Draws::Read;
+        }
     }
 }
 

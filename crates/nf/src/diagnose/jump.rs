@@ -6,7 +6,7 @@
 //! (0.83-0.89 of it in twin runs). So the chosen step is then let fall inside either
 //! neighbouring dwell, at a quarter, a half or three quarters of it.
 
-use super::effect::{Change, Effect, Law, Proposal, State, f_test, param};
+use super::effect::{Change, Draws, Effect, Law, Proposal, State, f_test, param};
 use super::kind::Kind;
 use super::scan::{Shape, scan};
 
@@ -73,6 +73,7 @@ impl Effect for BiasJump {
                 location,
                 scanned: 1,
                 own_p: None,
+                draws: Draws::No,
             },
             Law::F { scan: n - 4 },
         )]

@@ -109,11 +109,19 @@ pub fn undecided(held: &[Undecided], given: bool) -> Vec<String> {
                     None => format!("{} = {}", p.name, number(p.value)),
                 })
                 .collect();
+            let wander = if u.at_least {
+                format!(
+                    "p at least {:.1e} by the F law, already at or above the step's level {:.1e}",
+                    u.p_value, u.level
+                )
+            } else {
+                format!("p = {:.1e}, the step's level {:.1e}", u.p_value, u.level)
+            };
             format!(
-                "{} not named: its own test finds it (p = {:.1e}), but with the noise re-estimated with and without it the run's own wander explains the recording as well (p = {:.1e}); if it is one, {}, {}. One run cannot tell them apart: {}",
+                "{} not named: its own test finds it (p = {:.1e}), but with the noise re-estimated with and without it the run's own wander explains the recording as well ({}); if it is one, {}, {}. One run cannot tell them apart: {}",
                 u.effect.name(),
                 u.own_p,
-                u.p_value,
+                wander,
                 size.join(", "),
                 u.location,
                 tell

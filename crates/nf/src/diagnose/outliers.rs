@@ -2,7 +2,7 @@
 //! whitened fit, Bonferroni over the positions; judged under every tail the noise allows
 //! ([`super::tails::TailLaw`]), so that heavy-tailed noise is not read as a string of outliers.
 
-use super::effect::{Change, Effect, Proposal, State, param};
+use super::effect::{Change, Draws, Effect, Proposal, State, param};
 use super::kind::Kind;
 use super::scan::{Shape, scan};
 
@@ -44,6 +44,7 @@ impl Effect for Outliers {
             ),
             scanned: 1,
             own_p: None,
+            draws: Draws::No,
         }]
     }
 }

@@ -4,7 +4,7 @@
 //! judged under the cautious noise model there, under the estimate where the positions
 //! alternate sides (opposite pairs).
 
-use super::effect::{Change, Effect, Proposal, State, param};
+use super::effect::{Change, Draws, Effect, Proposal, State, param};
 use super::kind::Kind;
 use crate::stats::t_sf2;
 use nf_model::EARTH_RATE_DPH;
@@ -44,6 +44,7 @@ impl Effect for ScaleFactor {
             location: format!("the first-harmonic amplitude, {amp:.5} deg/h against {pred:.5} predicted"),
             scanned: 0,
             own_p: None,
+            draws: Draws::No,
         }]
     }
 }

@@ -6,7 +6,7 @@
 
 use super::averaging::{self, Variant};
 use super::data::Data;
-use super::effect::{Change, Effect, Frame, Param, Proposal, State};
+use super::effect::{Change, Draws, Effect, Frame, Param, Proposal, State};
 use super::kind::Kind;
 use super::model::{Model, Summary, summary};
 use super::tails::TailLaw;
@@ -38,6 +38,11 @@ pub struct Undecided {
     pub own_p: f64,
     /// With the noise re-estimated with and without it (the wander test's).
     pub p_value: f64,
+    /// Whether `p_value` is only a lower bound: the F law's, where draws of the null were not
+    /// made as it already stood at or above the step's level.
+    pub at_least: bool,
+    /// The step's level, which the wander test's p-value did not get under.
+    pub level: f64,
     /// Its size, if it is one.
     pub parameters: Vec<Param>,
     pub location: String,
@@ -208,6 +213,9 @@ impl<'a> Selector<'a> {
         };
         let mut cands: Vec<Proposal> = self.effects.iter().flat_map(|e| e.test(&state)).collect();
         let limit = self.alpha / cands.len().max(1) as f64;
+        for c in &mut cands {
+            state.read_draws(c, limit);
+        }
         // A left-out drift or jump also moves the amplitude: the scale factor stands only
         // when nothing else is significant, by its own test even where the wander test does
         // not confirm it.
@@ -265,6 +273,8 @@ fn undecided(cands: &[Proposal], limit: f64) -> Vec<Undecided> {
                 effect: c.kind,
                 own_p,
                 p_value: c.p,
+                at_least: c.draws == Draws::Skipped,
+                level: limit,
                 parameters: c.parameters.clone(),
                 location: c.location.clone(),
             });
@@ -334,10 +344,16 @@ mod tests {
             location: String::new(),
             scanned: 0,
             own_p,
+            draws: Draws::No,
+        };
+        let skipped = |p: Proposal| Proposal {
+            draws: Draws::Skipped,
+            ..p
         };
         let cands = [
             prop(Kind::BiasDrift, 0.2, Some(1e-4), "linear"),
             prop(Kind::BiasDrift, 0.3, Some(1e-6), "curved"),
+            skipped(prop(Kind::ThermalDrift, 2e-3, Some(1e-4), "temperature")),
             // Confirmed: named, not undecided.
             prop(Kind::BiasJump, 1e-4, Some(1e-5), "step"),
             // Its own test does not find it.
@@ -346,11 +362,13 @@ mod tests {
             prop(Kind::Outliers, 0.5, None, "dwell"),
         ];
         let held = undecided(&cands, 1e-3);
-        assert_eq!(held.len(), 1);
+        assert_eq!(held.len(), 2);
         let u = &held[0];
         assert_eq!(u.effect, Kind::BiasDrift);
         assert_eq!(u.parameters[0].name, "curved");
-        assert_eq!((u.own_p, u.p_value), (1e-6, 0.3));
+        assert_eq!((u.own_p, u.p_value, u.at_least, u.level), (1e-6, 0.3, false, 1e-3));
+        // Its draws not made: its p-value only a bound.
+        assert_eq!((held[1].effect, held[1].at_least), (Kind::ThermalDrift, true));
     }
 
     #[test]

@@ -5,7 +5,7 @@
 //! noise, whose time reversal swaps the two). A dwell at the angle of the one before had no
 //! move to settle from: it is left out of the test and of the correction.
 
-use super::effect::{Change, Effect, Proposal, State, param};
+use super::effect::{Change, Draws, Effect, Proposal, State, param};
 use super::kind::Kind;
 use crate::stats::{beta_inc, t_sf2};
 
@@ -62,6 +62,7 @@ impl Effect for SettlingTransient {
             location: "the first quarter of each dwell".into(),
             scanned: 0,
             own_p: None,
+            draws: Draws::No,
         }]
     }
 }

@@ -3,7 +3,7 @@
 //! whether or not it is significant; it is named when the inclinometer's tilt circle stands
 //! out of the readings' noise (F test of the tilt against none).
 
-use super::effect::{Change, Effect, Param, Proposal, State, param};
+use super::effect::{Change, Draws, Effect, Param, Proposal, State, param};
 use super::kind::Kind;
 use crate::analysis::TiltMethod;
 use crate::recording::Recording;
@@ -84,6 +84,7 @@ impl Effect for ShaftTilt {
             location: self.location.clone(),
             scanned: 0,
             own_p: None,
+            draws: Draws::No,
         }]
     }
 }

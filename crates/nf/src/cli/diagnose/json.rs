@@ -51,6 +51,11 @@ struct UndecidedJson<'a> {
     own_p_value: f64,
     /// The wander test's p-value (the noise re-estimated with and without it).
     p_value: f64,
+    /// Whether `p_value` is the F law's lower bound of it (draws of the null not made, as
+    /// it already reached `level`).
+    p_value_is_lower_bound: bool,
+    /// The selection step's level, which the wander test's p-value did not get under.
+    level: f64,
     /// Its size by name, if it is one.
     parameters: BTreeMap<&'a str, ParamJson>,
     /// Where in the recording it would show.
@@ -184,6 +189,8 @@ fn undecided_json(u: &Undecided) -> UndecidedJson<'_> {
         effect: u.effect.name(),
         own_p_value: u.own_p,
         p_value: u.p_value,
+        p_value_is_lower_bound: u.at_least,
+        level: u.level,
         parameters: parameters_json(&u.parameters),
         location: &u.location,
     }
