@@ -259,6 +259,56 @@ impl Nested {
     }
 }
 
+/// One extra's draws so far: how many reached the recording's ratio, and why they stopped.
+struct Tally {
+    /// The recording's ratio; `None` where a likelihood failed, which ends the draws.
+    observed: Option<f64>,
+    drawn: usize,
+    reached: usize,
+    most: usize,
+    limit: f64,
+}
+
+impl Tally {
+    fn new(observed: Option<f64>, most: usize, limit: f64) -> Tally {
+        Tally {
+            observed,
+            drawn: 0,
+            reached: 0,
+            most,
+            limit,
+        }
+    }
+
+    /// Until `EXCEEDED` have reached the ratio, the p-value can no longer fall under the
+    /// limit, or at `most`.
+    fn drawing(&self) -> bool {
+        self.observed.is_some()
+            && self.drawn < self.most
+            && self.reached < EXCEEDED
+            && ((1 + self.reached) as f64) < self.limit * (1 + self.most) as f64
+    }
+
+    /// The next draw's ratio, taken while drawing.
+    fn take(&mut self, ratio: Option<f64>) {
+        if !self.drawing() {
+            return;
+        }
+        match (ratio, self.observed) {
+            (Some(l), Some(o)) => {
+                self.drawn += 1;
+                self.reached += usize::from(l >= o);
+            }
+            _ => self.observed = None,
+        }
+    }
+
+    fn p(&self) -> Option<f64> {
+        self.observed
+            .map(|_| (1 + self.reached) as f64 / (1 + self.drawn) as f64)
+    }
+}
+
 /// A start's whitening of the null's design and rates.
 struct Whitened {
     cols: Vec<Vec<f64>>,
@@ -339,44 +389,62 @@ impl Null<'_> {
     /// the F law: under a walk of about a dwell mean's noise per dwell, a curve's F p-value
     /// was below 0.01 in 19 of 60 runs of 36 dwells, the drawn one in 1. The ratio here is
     /// each side's best over the starts (not refined), the recording's as the draws'; each
-    /// start's designs are factored once. Draws stop once `EXCEEDED` have reached it, once
-    /// the p-value can no longer fall under `limit`, or at `most`. `None` where the test
-    /// does not draw.
-    pub fn p_drawn(&self, extra: &[Vec<f64>], most: usize, limit: f64) -> Option<f64> {
+    /// start's designs are factored once. One p-value per extra, all from the same draws,
+    /// each stopped once `EXCEEDED` have reached it, once the p-value can no longer fall
+    /// under `limit`, or at `most`. `None` where the test does not draw.
+    pub fn p_drawn(&self, extras: &[&[Vec<f64>]], most: usize, limit: f64) -> Vec<Option<f64>> {
+        let none = vec![None; extras.len()];
         if !self.test.draws {
-            return None;
+            return none;
         }
         let starts = &self.test.starts;
-        let bases: Vec<Nested> = starts
+        // Per extra, per start.
+        let bases: Vec<Vec<Nested>> = extras
             .iter()
-            .zip(&self.whitened)
-            .map(|(s, w)| {
-                let extra: Vec<Vec<f64>> = extra.iter().map(|c| s.cov.whiten(c)).collect();
-                Nested::of(&w.cols, &extra)
+            .map(|extra| {
+                starts
+                    .iter()
+                    .zip(&self.whitened)
+                    .map(|(s, w)| {
+                        let extra: Vec<Vec<f64>> = extra.iter().map(|c| s.cov.whiten(c)).collect();
+                        Nested::of(&w.cols, &extra)
+                    })
+                    .collect()
             })
             .collect();
-        // Each side's best over the starts, per draw.
-        let ratios = |white: &dyn Fn(usize) -> Vec<[f64; BLOCK]>| -> [Option<f64>; BLOCK] {
-            let mut best = [Some((f64::MIN, f64::MIN)); BLOCK];
-            for (i, (start, basis)) in starts.iter().zip(&bases).enumerate() {
-                for (b, rss) in basis.rss_block(&white(i)).into_iter().enumerate() {
-                    best[b] = best[b]
-                        .zip(start.loglik(rss.0))
-                        .zip(start.loglik(rss.1))
-                        .map(|(((small, large), l0), l1)| (small.max(l0), large.max(l1)));
+        // Each side's best over the starts, per extra still drawn and per draw; each start
+        // whitens the draws once for all the extras.
+        let ratios = |white: &dyn Fn(usize) -> Vec<[f64; BLOCK]>, live: &[bool]| {
+            let mut best = vec![[Some((f64::MIN, f64::MIN)); BLOCK]; extras.len()];
+            for (i, start) in starts.iter().enumerate() {
+                let w = white(i);
+                for (e, best) in best.iter_mut().enumerate().filter(|(e, _)| live[*e]) {
+                    for (b, rss) in bases[e][i].rss_block(&w).into_iter().enumerate() {
+                        best[b] = best[b]
+                            .zip(start.loglik(rss.0))
+                            .zip(start.loglik(rss.1))
+                            .map(|(((small, large), l0), l1)| (small.max(l0), large.max(l1)));
+                    }
                 }
             }
-            best.map(|b| b.map(|(small, large)| (2.0 * (large - small)).max(0.0)))
+            best.into_iter()
+                .map(|b| b.map(|b| b.map(|(small, large)| (2.0 * (large - small)).max(0.0))))
+                .collect::<Vec<_>>()
         };
-        let observed = ratios(&|i| self.whitened[i].y.iter().map(|&v| [v; BLOCK]).collect())[0]?;
-        let (mean, level) = self.fitted()?;
+        let observed = ratios(
+            &|i| self.whitened[i].y.iter().map(|&v| [v; BLOCK]).collect(),
+            &vec![true; extras.len()],
+        );
+        let Some((mean, level)) = self.fitted() else {
+            return none;
+        };
+        let mut tallies: Vec<Tally> = observed.iter().map(|o| Tally::new(o[0], most, limit)).collect();
         let seed = self
             .y
             .iter()
             .fold(self.y.len() as u64, |h, v| h.rotate_left(7) ^ v.to_bits());
         let mut rng = nf_model::rng::Rng::new(seed);
-        let (mut drawn, mut reached) = (0usize, 0usize);
-        'draws: loop {
+        while tallies.iter().any(Tally::drawing) {
             let mut z = vec![[0.0; BLOCK]; mean.len()];
             for b in 0..BLOCK {
                 z.iter_mut().for_each(|row| row[b] = rng.gauss());
@@ -387,15 +455,15 @@ impl Null<'_> {
                 .zip(&noise)
                 .map(|(m, e)| e.map(|e| m + level.sqrt() * e))
                 .collect();
-            for l in ratios(&|i| starts[i].cov.whiten_block(&y)) {
-                if drawn == most || reached == EXCEEDED || (1 + reached) as f64 >= limit * (1 + most) as f64 {
-                    break 'draws;
-                }
-                drawn += 1;
-                reached += usize::from(l? >= observed);
+            let live: Vec<bool> = tallies.iter().map(Tally::drawing).collect();
+            for (t, r) in tallies
+                .iter_mut()
+                .zip(ratios(&|i| starts[i].cov.whiten_block(&y), &live))
+            {
+                r.into_iter().for_each(|l| t.take(l));
             }
         }
-        Some((1 + reached) as f64 / (1 + drawn) as f64)
+        tallies.iter().map(Tally::p).collect()
     }
 
     /// The null's fitted rates and white level, which every draw adds noise of its best
@@ -605,7 +673,7 @@ mod tests {
                 let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 f += usize::from(null.p_value(&curve(&r)).unwrap() < level);
-                drawn += usize::from(null.p_drawn(&curve(&r), 400, level).unwrap() < level);
+                drawn += usize::from(null.p_drawn(&[&curve(&r)], 400, level)[0].unwrap() < level);
             }
             println!("n {n} rrw {rrw} drift {drift}: below {level}: F {f}, drawn {drawn} of 60");
             (f, drawn)
@@ -625,9 +693,9 @@ mod tests {
             let r = run(36, 0.5, 4e-4 * (seed % 3) as f64, 700 + seed);
             let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
             let null = test.null(&r.cols, &r.y).unwrap();
-            let all = null.p_drawn(&curve(&r), 400, 1.0).unwrap();
+            let all = null.p_drawn(&[&curve(&r)], 400, 1.0)[0].unwrap();
             for level in [0.004, 0.01, 0.05] {
-                let stopped = null.p_drawn(&curve(&r), 400, level).unwrap();
+                let stopped = null.p_drawn(&[&curve(&r)], 400, level)[0].unwrap();
                 assert_eq!(
                     stopped < level,
                     all < level,
@@ -640,6 +708,20 @@ mod tests {
             }
         }
         assert!(decided[0] > 0 && decided[1] > 0, "{decided:?}");
+    }
+
+    #[test]
+    fn extras_drawn_together_get_what_each_gets_alone() {
+        let r = run(36, 0.5, 4e-4, 9);
+        let line = vec![r.t.clone()];
+        let curve = vec![r.t.clone(), r.t.iter().map(|v| v * v).collect()];
+        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
+        let null = test.null(&r.cols, &r.y).unwrap();
+        for limit in [0.004, 1.0] {
+            let together = null.p_drawn(&[&line, &curve], 400, limit);
+            let alone = [&line, &curve].map(|x| null.p_drawn(&[x], 400, limit)[0]);
+            assert_eq!(together, alone.to_vec(), "limit {limit}");
+        }
     }
 
     #[test]

@@ -165,28 +165,38 @@ impl State<'_> {
         }
         p
     }
-}
 
-impl State<'_> {
-    /// `p` raised to the p-value of the wander test's ratio against draws of its null (never
-    /// below the F law's), where that can decide: where `p` is under the step's level
-    /// `limit`. Above it the effect is not named whatever the draws say, and they are not
-    /// made; the draws stop once their p-value cannot fall under it.
-    pub fn read_draws(&self, p: &mut Proposal, limit: f64) {
-        if p.draws != Draws::Pending {
-            return;
+    /// Each pending proposal's `p` raised to the p-value of the wander test's ratio against
+    /// draws of its null (never below the F law's), where that can decide: where `p` is under
+    /// the step's level `limit`. Above it the effect is not named whatever the draws say, and
+    /// they are not made. The proposals share the draws (one null), and each stops once its
+    /// p-value cannot fall under the level.
+    pub fn read_draws(&self, cands: &mut [Proposal], limit: f64) {
+        let asked: Vec<(usize, &[Vec<f64>])> = cands
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.draws == Draws::Pending && p.p < limit)
+            .filter_map(|(i, p)| match &p.change {
+                Change::Columns(cols) => Some((i, cols.as_slice())),
+                _ => None,
+            })
+            .collect();
+        let drawn = match self.wander.get() {
+            Some(null) if !asked.is_empty() => {
+                let extras: Vec<&[Vec<f64>]> = asked.iter().map(|(_, cols)| *cols).collect();
+                null.p_drawn(&extras, DRAWS, limit)
+            }
+            _ => Vec::new(),
+        };
+        let asked: Vec<usize> = asked.into_iter().map(|(i, _)| i).collect();
+        for p in cands.iter_mut().filter(|p| p.draws == Draws::Pending) {
+            p.draws = if p.p >= limit { Draws::Skipped } else { Draws::No };
         }
-        if p.p >= limit {
-            p.draws = Draws::Skipped;
-            return;
-        }
-        p.draws = Draws::No;
-        if let Change::Columns(cols) = &p.change
-            && let Some(null) = self.wander.get()
-            && let Some(d) = null.p_drawn(cols, DRAWS, limit)
-        {
-            p.p = p.p.max(d);
-            p.draws = Draws::Read;
+        for (i, d) in asked.into_iter().zip(drawn) {
+            if let Some(d) = d {
+                cands[i].p = cands[i].p.max(d);
+                cands[i].draws = Draws::Read;
+            }
         }
     }
 }

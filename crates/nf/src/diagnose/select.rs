@@ -213,9 +213,7 @@ impl<'a> Selector<'a> {
         };
         let mut cands: Vec<Proposal> = self.effects.iter().flat_map(|e| e.test(&state)).collect();
         let limit = self.alpha / cands.len().max(1) as f64;
-        for c in &mut cands {
-            state.read_draws(c, limit);
-        }
+        state.read_draws(&mut cands, limit);
         // A left-out drift or jump also moves the amplitude: the scale factor stands only
         // when nothing else is significant, by its own test even where the wander test does
         // not confirm it.
