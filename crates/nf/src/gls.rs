@@ -380,4 +380,26 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn a_dense_factor_whitens_and_colours_blocks_column_by_column() {
+        let n = 12;
+        let t: Vec<f64> = (0..n).map(|i| 3.0 * i as f64).collect();
+        let sigma = window_covariance(&NoiseModel::white(0.01, 2.0), &t, &vec![2.0; n]);
+        let dense = Cov::new(&sigma, n).unwrap();
+        let mut rng = Rng::new(3);
+        let block: Vec<[f64; 2]> = (0..n).map(|_| [rng.gauss(), rng.gauss()]).collect();
+        let (white, coloured) = (dense.whiten_block(&block), dense.colour_block(&block));
+        for b in 0..2 {
+            let column: Vec<f64> = block.iter().map(|row| row[b]).collect();
+            assert_eq!(
+                white.iter().map(|row| row[b]).collect::<Vec<_>>(),
+                dense.whiten(&column)
+            );
+            assert_eq!(
+                coloured.iter().map(|row| row[b]).collect::<Vec<_>>(),
+                dense.colour(&column)
+            );
+        }
+    }
 }

@@ -191,4 +191,25 @@ mod tests {
             said[0]
         );
     }
+
+    #[test]
+    fn a_held_back_effect_says_its_wander_p_value_and_whether_it_is_only_a_bound() {
+        let held = |at_least| Undecided {
+            effect: Kind::BiasDrift,
+            own_p: 1e-4,
+            p_value: 4.5e-3,
+            at_least,
+            level: 4e-3,
+            parameters: Vec::new(),
+            location: "over the run".into(),
+        };
+        let drawn = undecided(&[held(false)], false);
+        assert!(
+            drawn[0].contains("(p = 4.5e-3, the step's level 4.0e-3)"),
+            "{}",
+            drawn[0]
+        );
+        let bound = undecided(&[held(true)], false);
+        assert!(bound[0].contains("(p at least 4.5e-3 by the F law"), "{}", bound[0]);
+    }
 }
