@@ -1,6 +1,7 @@
 //! `nf diagnose`: the physics a recording has that the model left out, and the evaluation suite.
 
 use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
+use super::spinner::spinning;
 use super::suite_keep::Keeper;
 use super::{Fail, angle5, diagnose_sim, read_recording, write_out};
 use crate::diagnose::{Diagnosis, Options, Point, diagnose};
@@ -19,12 +20,6 @@ use std::io::Write;
 use std::path::Path;
 
 mod json;
-
-/// Positions beyond which a diagnosis takes about a second on this machine (0.67 s at 20 000,
-/// 2.1 s at 100 000: `examples/diagnose_bench.rs`).
-const SLOW_POSITIONS: usize = 30_000;
-/// Positions beyond which the final sigma's replicates take about a second.
-const SLOW_REPLICATED_POSITIONS: usize = 300;
 
 #[derive(clap::Args)]
 pub struct DiagnoseArgs {
@@ -106,25 +101,17 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
     rec.require_turning()
         .and_then(|_| rec.require_positions(crate::diagnose::MIN_POSITIONS, "diagnosing"))
         .map_err(|e| Fail(format!("{path}: {e}"), 2))?;
-    // Past this many positions a diagnosis takes more than a second, and a spinner says so
-    // (on a terminal only); so do the replicates of the final sigma from a few hundred.
     let n = rec.rows.len();
     let replicated = opt.noise == NoiseChoice::Estimate && a.replicates > 0 && n <= THINNED;
-    let spinner = super::spinner(
-        n > SLOW_POSITIONS || (replicated && n > SLOW_REPLICATED_POSITIONS),
-        if replicated {
-            format!(
-                "diagnosing {n} positions and up to {} bootstrap replicates (--replicates 0 skips them)",
-                a.replicates
-            )
-        } else {
-            format!("diagnosing {n} positions")
-        },
-    );
-    let d = diagnose(&rec, &opt);
-    if let Some(s) = spinner {
-        s.finish_and_clear();
-    }
+    let message = if replicated {
+        format!(
+            "diagnosing {n} positions and up to {} bootstrap replicates (--replicates 0 skips them)",
+            a.replicates
+        )
+    } else {
+        format!("diagnosing {n} positions")
+    };
+    let d = spinning(message, || diagnose(&rec, &opt));
     let d = d.map_err(|e| Fail(format!("{path}: {e}"), 2))?;
     let sim = match &file {
         Some(f) => {

@@ -1,6 +1,7 @@
 //! `nf fit`: azimuth, amplitude, bias, residuals and uncertainty of a recording.
 
 use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
+use super::spinner::spinning;
 use super::{Fail, angle5, read_recording};
 use crate::analysis::{Analysis, Options, TiltMethod, analyse};
 use crate::noise_calib;
@@ -14,9 +15,6 @@ use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
 use nf_model::noise::NoiseModel;
 use std::io::Write;
-
-/// Positions past which the bootstrap takes seconds and a spinner says so.
-const SLOW_FIT_POSITIONS: usize = 2000;
 
 /// Tilt (deg) above which a requested first-order correction is warned against.
 const FIRST_ORDER_MAX_DEG: f64 = 1.0;
@@ -120,19 +118,12 @@ pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
             }
         })
         .map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;
-    // Each bootstrap replicate costs a noise estimate: past 2000 positions that is seconds.
-    let spinner = super::spinner(
-        rec.rows.len() > SLOW_FIT_POSITIONS && a.replicates > 0,
-        format!(
-            "fitting {} positions and {} bootstrap replicates (--replicates 0 skips them)",
-            rec.rows.len(),
-            a.replicates
-        ),
-    );
-    let an = analyse(&rec, &opt);
-    if let Some(s) = spinner {
-        s.finish_and_clear();
-    }
+    let n = rec.rows.len();
+    let message = match a.replicates {
+        0 => format!("fitting {n} positions"),
+        r => format!("fitting {n} positions and {r} bootstrap replicates (--replicates 0 skips them)"),
+    };
+    let an = spinning(message, || analyse(&rec, &opt));
     // What the recording cannot give (no inclinometer for --tilt exact, too few
     // distinct angles) is bad input.
     let an = an.map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;

@@ -11,6 +11,7 @@ mod noise_args;
 mod paper;
 mod plan;
 mod simulate;
+mod spinner;
 mod suite_keep;
 
 use crate::recording::Recording;
@@ -132,16 +133,6 @@ pub fn main() -> ExitCode {
 /// A recording's warnings printed one by one, at most: a writer's systematic fault would
 /// repeat one on every line.
 const WARNINGS_SHOWN: usize = 10;
-
-/// A spinner with `message` while a long job runs (on a terminal only), when `slow`.
-pub(crate) fn spinner(slow: bool, message: String) -> Option<indicatif::ProgressBar> {
-    slow.then(|| {
-        let s = indicatif::ProgressBar::new_spinner();
-        s.set_message(message);
-        s.enable_steady_tick(std::time::Duration::from_millis(120));
-        s
-    })
-}
 
 pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
     let rec = Recording::read(path).map_err(|e| Fail(e.at(path), 2))?;
