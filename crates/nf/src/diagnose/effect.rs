@@ -63,8 +63,8 @@ pub enum Draws {
     Pending,
     /// Read: `p` is at least their p-value.
     Read,
-    /// Not made, the F law's p-value being at or above the step's level already: `p` is a
-    /// lower bound of the test's.
+    /// Not made, `p` (its own test's and the F law's) being at or above the step's level
+    /// already: a lower bound of the test's.
     Skipped,
 }
 
