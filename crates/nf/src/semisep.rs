@@ -269,11 +269,7 @@ impl Semisep {
     /// the covariance's inverse.
     pub fn whiten(&self, v: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; v.len()];
-        self.forward::<1>(|k, i, [carried]| {
-            let z = v[i] - carried;
-            out[i] = z / self.d[k].sqrt();
-            [z]
-        });
+        self.whiten_into::<1>(|i| [v[i]], |i, [x]| out[i] = x);
         out
     }
 
@@ -281,11 +277,7 @@ impl Semisep {
     /// normals `z` it draws the windows' means under the covariance.
     pub fn colour(&self, z: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; z.len()];
-        self.forward::<1>(|k, i, [carried]| {
-            let innovation = z[i] * self.d[k].sqrt();
-            out[i] = innovation + carried;
-            [innovation]
-        });
+        self.colour_into::<1>(|i| [z[i]], |i, [x]| out[i] = x);
         out
     }
 
@@ -294,25 +286,35 @@ impl Semisep {
     /// many factors whiten many vectors. The same arithmetic as one at a time.
     pub fn whiten_block<const W: usize>(&self, v: &[[f64; W]]) -> Vec<[f64; W]> {
         let mut out = vec![[0.0; W]; v.len()];
-        self.forward::<W>(|k, i, carried| {
-            let scale = self.d[k].sqrt();
-            let z: [f64; W] = core::array::from_fn(|b| v[i][b] - carried[b]);
-            out[i] = z.map(|x| x / scale);
-            z
-        });
+        self.whiten_into::<W>(|i| v[i], |i, x| out[i] = x);
         out
     }
 
     /// [`Semisep::colour`] of `W` vectors at once, as [`Semisep::whiten_block`].
     pub fn colour_block<const W: usize>(&self, z: &[[f64; W]]) -> Vec<[f64; W]> {
         let mut out = vec![[0.0; W]; z.len()];
+        self.colour_into::<W>(|i| z[i], |i, x| out[i] = x);
+        out
+    }
+
+    /// The whitening of the vectors `v` reads (the caller's `i`), handed to `put`.
+    fn whiten_into<const W: usize>(&self, v: impl Fn(usize) -> [f64; W], mut put: impl FnMut(usize, [f64; W])) {
+        self.forward::<W>(|k, i, carried| {
+            let (scale, v) = (self.d[k].sqrt(), v(i));
+            let z: [f64; W] = core::array::from_fn(|b| v[b] - carried[b]);
+            put(i, z.map(|x| x / scale));
+            z
+        });
+    }
+
+    /// The colouring of the vectors `z` reads, handed to `put`.
+    fn colour_into<const W: usize>(&self, z: impl Fn(usize) -> [f64; W], mut put: impl FnMut(usize, [f64; W])) {
         self.forward::<W>(|k, i, carried| {
             let scale = self.d[k].sqrt();
-            let innovation = z[i].map(|x| x * scale);
-            out[i] = core::array::from_fn(|b| innovation[b] + carried[b]);
+            let innovation = z(i).map(|x| x * scale);
+            put(i, core::array::from_fn(|b| innovation[b] + carried[b]));
             innovation
         });
-        out
     }
 
     /// The recursion of `L`, forwards in time, on `W` vectors side by side: `step(k, i,
