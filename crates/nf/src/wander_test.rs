@@ -228,27 +228,27 @@ impl Nested {
         Nested { basis, small }
     }
 
-    /// The RSS of `BLOCK` rate vectors side by side (row `i` their `i`th values), under the
+    /// The RSS of `W` rate vectors side by side (row `i` their `i`th values), under the
     /// null and under the larger design.
-    fn rss_block(&self, y: &[[f64; BLOCK]]) -> [(f64, f64); BLOCK] {
-        let mut norm = [-0.0; BLOCK];
+    fn rss_block<const W: usize>(&self, y: &[[f64; W]]) -> [(f64, f64); W] {
+        let mut norm = [-0.0; W];
         for row in y {
-            for b in 0..BLOCK {
+            for b in 0..W {
                 norm[b] += row[b] * row[b];
             }
         }
-        let (mut along, mut small) = ([-0.0; BLOCK], [-0.0; BLOCK]);
+        let (mut along, mut small) = ([-0.0; W], [-0.0; W]);
         for (k, q) in self.basis.0.iter().enumerate() {
             if k == self.small {
                 small = along;
             }
-            let mut dot = [-0.0; BLOCK];
+            let mut dot = [-0.0; W];
             for (x, row) in q.iter().zip(y) {
-                for b in 0..BLOCK {
+                for b in 0..W {
                     dot[b] += x * row[b];
                 }
             }
-            for b in 0..BLOCK {
+            for b in 0..W {
                 along[b] += dot[b].powi(2);
             }
         }
@@ -257,6 +257,32 @@ impl Nested {
         }
         core::array::from_fn(|b| ((norm[b] - small[b]).max(0.0), (norm[b] - along[b]).max(0.0)))
     }
+}
+
+/// Twice the log-likelihood gained by each extra (`bases[e]`, per start) for `W` rate
+/// vectors whitened under start `i` by `white(i)`, each side at its best start; extras not
+/// `live` are skipped. Each start's whitening serves every extra.
+fn ratios<const W: usize>(
+    starts: &[Start],
+    bases: &[Vec<Nested>],
+    white: impl Fn(usize) -> Vec<[f64; W]>,
+    live: &[bool],
+) -> Vec<[Option<f64>; W]> {
+    let mut best = vec![[Some((f64::MIN, f64::MIN)); W]; bases.len()];
+    for (i, start) in starts.iter().enumerate() {
+        let w = white(i);
+        for (e, best) in best.iter_mut().enumerate().filter(|(e, _)| live[*e]) {
+            for (b, rss) in bases[e][i].rss_block(&w).into_iter().enumerate() {
+                best[b] = best[b]
+                    .zip(start.loglik(rss.0))
+                    .zip(start.loglik(rss.1))
+                    .map(|(((small, large), l0), l1)| (small.max(l0), large.max(l1)));
+            }
+        }
+    }
+    best.into_iter()
+        .map(|b| b.map(|b| b.map(|(small, large)| (2.0 * (large - small)).max(0.0))))
+        .collect()
 }
 
 /// One extra's draws so far: how many reached the recording's ratio, and why they stopped.
@@ -412,33 +438,16 @@ impl Null<'_> {
                     .collect()
             })
             .collect();
-        // Each side's best over the starts, per extra still drawn and per draw; each start
-        // whitens the draws once for all the extras.
-        let ratios = |white: &dyn Fn(usize) -> Vec<[f64; BLOCK]>, live: &[bool]| {
-            let mut best = vec![[Some((f64::MIN, f64::MIN)); BLOCK]; extras.len()];
-            for (i, start) in starts.iter().enumerate() {
-                let w = white(i);
-                for (e, best) in best.iter_mut().enumerate().filter(|(e, _)| live[*e]) {
-                    for (b, rss) in bases[e][i].rss_block(&w).into_iter().enumerate() {
-                        best[b] = best[b]
-                            .zip(start.loglik(rss.0))
-                            .zip(start.loglik(rss.1))
-                            .map(|(((small, large), l0), l1)| (small.max(l0), large.max(l1)));
-                    }
-                }
-            }
-            best.into_iter()
-                .map(|b| b.map(|b| b.map(|(small, large)| (2.0 * (large - small)).max(0.0))))
-                .collect::<Vec<_>>()
-        };
-        let observed = ratios(
-            &|i| self.whitened[i].y.iter().map(|&v| [v; BLOCK]).collect(),
+        let observed: Vec<[Option<f64>; 1]> = ratios(
+            starts,
+            &bases,
+            |i| self.whitened[i].y.iter().map(|&v| [v]).collect(),
             &vec![true; extras.len()],
         );
         let Some((mean, level)) = self.fitted() else {
             return none;
         };
-        let mut tallies: Vec<Tally> = observed.iter().map(|o| Tally::new(o[0], most, limit)).collect();
+        let mut tallies: Vec<Tally> = observed.iter().map(|[o]| Tally::new(*o, most, limit)).collect();
         let seed = self
             .y
             .iter()
@@ -456,10 +465,8 @@ impl Null<'_> {
                 .map(|(m, e)| e.map(|e| m + level.sqrt() * e))
                 .collect();
             let live: Vec<bool> = tallies.iter().map(Tally::drawing).collect();
-            for (t, r) in tallies
-                .iter_mut()
-                .zip(ratios(&|i| starts[i].cov.whiten_block(&y), &live))
-            {
+            let drawn: Vec<[Option<f64>; BLOCK]> = ratios(starts, &bases, |i| starts[i].cov.whiten_block(&y), &live);
+            for (t, r) in tallies.iter_mut().zip(drawn) {
                 r.into_iter().for_each(|l| t.take(l));
             }
         }
