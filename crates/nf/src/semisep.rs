@@ -218,16 +218,20 @@ impl Semisep {
         let mut su = vec![0.0; r];
         for k in 0..n {
             fill(k, &mut row);
-            if k > 0 {
+            // S carried on and S u summed in one pass: S is kept exactly symmetric (each
+            // entry's factors in an order that commutes), so S u is the sum of its rows, each
+            // added to every entry at once, which vectorises where a sum along each row
+            // would wait on its own additions. (The hot loop of every factor.)
+            su.fill(0.0);
+            if k > 0 && r > 0 {
                 let (d, w) = (f.d[k - 1], &f.w[(k - 1) * r..k * r]);
-                for a in 0..r {
-                    for b in 0..r {
-                        s[a * r + b] = row.phi[a] * row.phi[b] * (s[a * r + b] + d * w[a] * w[b]);
+                for (a, s) in s.chunks_exact_mut(r).enumerate() {
+                    let (phi_a, w_a, u_a) = (row.phi[a], w[a], row.u[a]);
+                    for (((s, su), phi_b), w_b) in s.iter_mut().zip(su.iter_mut()).zip(&row.phi).zip(w) {
+                        *s = phi_a * phi_b * (*s + w_a * w_b * d);
+                        *su += *s * u_a;
                     }
                 }
-            }
-            for a in 0..r {
-                su[a] = (0..r).map(|b| s[a * r + b] * row.u[b]).sum();
             }
             let d = row.diag - (0..r).map(|a| row.u[a] * su[a]).sum::<f64>();
             if d.is_nan() || d <= 1e-12 * row.diag {
