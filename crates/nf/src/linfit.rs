@@ -30,29 +30,39 @@ impl Ls {
 /// Fits `y ~ cols`; `None` when the columns are (numerically) dependent or too many to leave
 /// a residual degree of freedom.
 pub fn fit(cols: &[Vec<f64>], y: &[f64]) -> Option<Ls> {
+    solve(&slices(cols), y, 1)
+}
+
+/// [`fit`] of columns kept elsewhere, which need not be copied into one design first.
+pub fn fit_slices(cols: &[&[f64]], y: &[f64]) -> Option<Ls> {
     solve(cols, y, 1)
 }
 
 /// As [`fit`], but as many rows as columns are allowed: an exact fit, for a noise known from
 /// elsewhere (GLS under a given covariance).
 pub fn fit_exact(cols: &[Vec<f64>], y: &[f64]) -> Option<Ls> {
-    solve(cols, y, 0)
+    solve(&slices(cols), y, 0)
 }
 
-fn solve(cols: &[Vec<f64>], y: &[f64], min_dof: usize) -> Option<Ls> {
+fn slices(cols: &[Vec<f64>]) -> Vec<&[f64]> {
+    cols.iter().map(Vec::as_slice).collect()
+}
+
+fn solve(cols: &[&[f64]], y: &[f64], min_dof: usize) -> Option<Ls> {
     let (n, p) = (y.len(), cols.len());
     if p == 0 || n < p + min_dof {
         return None;
     }
-    let mut q: Vec<Vec<f64>> = cols.to_vec();
+    let mut q: Vec<Vec<f64>> = cols.iter().map(|c| c.to_vec()).collect();
     let mut r = vec![vec![0.0; p]; p];
     for j in 0..p {
         let norm0 = q[j].iter().map(|v| v * v).sum::<f64>().sqrt();
-        for i in 0..j {
-            let d: f64 = q[i].iter().zip(&q[j]).map(|(a, b)| a * b).sum();
+        let (done, rest) = q.split_at_mut(j);
+        let qj = &mut rest[0];
+        for (i, qi) in done.iter().enumerate() {
+            let d: f64 = qi.iter().zip(qj.iter()).map(|(a, b)| a * b).sum();
             r[i][j] = d;
-            let qi = q[i].clone();
-            for (v, a) in q[j].iter_mut().zip(&qi) {
+            for (v, a) in qj.iter_mut().zip(qi) {
                 *v -= d * a;
             }
         }

@@ -77,9 +77,13 @@ impl Model {
 
     /// The whitened fit, with `extra` whitened columns appended.
     pub fn fit_plus(&self, extra: &[Vec<f64>]) -> Option<Ls> {
-        let mut cols: Vec<Vec<f64>> = self.cols.iter().map(|c| c.white.clone()).collect();
-        cols.extend(extra.iter().cloned());
-        linfit::fit(&cols, &self.y_white)
+        let cols: Vec<&[f64]> = self
+            .cols
+            .iter()
+            .map(|c| c.white.as_slice())
+            .chain(extra.iter().map(Vec::as_slice))
+            .collect();
+        linfit::fit_slices(&cols, &self.y_white)
     }
 
     pub fn fit(&self) -> Option<Ls> {
