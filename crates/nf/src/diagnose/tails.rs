@@ -153,11 +153,17 @@ pub fn shock_mix(r: &[f64]) -> Option<ShockMix> {
     })
 }
 
-/// Log-likelihood of a Student-t with `nu` dof at its maximum-likelihood scale (by EM).
+/// Log-likelihood of a Student-t with `nu` dof at its maximum-likelihood scale (by EM, to
+/// rounding: 10 to 45 passes, not 50 over a million residuals).
 fn student_loglik(r: &[f64], nu: f64, s2_start: f64) -> f64 {
     let mut s2 = s2_start;
     for _ in 0..50 {
-        s2 = r.iter().map(|v| v * v * (nu + 1.0) / (nu + v * v / s2)).sum::<f64>() / r.len() as f64;
+        let next = r.iter().map(|v| v * v * (nu + 1.0) / (nu + v * v / s2)).sum::<f64>() / r.len() as f64;
+        let settled = (next - s2).abs() <= 1e-12 * s2;
+        s2 = next;
+        if settled {
+            break;
+        }
     }
     let c = ln_gamma((nu + 1.0) / 2.0) - ln_gamma(nu / 2.0) - 0.5 * (nu * std::f64::consts::PI * s2).ln();
     r.iter()
