@@ -158,6 +158,14 @@ impl Cov {
         }
     }
 
+    /// [`Cov::adjoint`] of `W` vectors side by side.
+    pub fn adjoint_block<const W: usize>(&self, v: &[[f64; W]]) -> Vec<[f64; W]> {
+        match &self.factor {
+            Factor::Dense { .. } => by_columns(v, |c| self.adjoint(c)),
+            Factor::Windows(s) => s.adjoint_block(v),
+        }
+    }
+
     /// `|W e_i|^2` and `|W s_i|^2` for every row `i`, `s_i` the step that is 1 from row `i`
     /// on, the rows in time order.
     pub fn indicator_and_step_norms(&self) -> (Vec<f64>, Vec<f64>) {

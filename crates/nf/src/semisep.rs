@@ -369,30 +369,43 @@ impl Semisep {
 
     /// `W^T v` for the whitening `W` of [`Semisep::whiten`]: its adjoint, backwards in time.
     pub fn adjoint(&self, v: &[f64]) -> Vec<f64> {
+        let block: Vec<[f64; 1]> = v.iter().map(|&x| [x]).collect();
+        self.adjoint_block(&block).into_iter().map(|[x]| x).collect()
+    }
+
+    /// [`Semisep::adjoint`] of `W` vectors side by side, as [`Semisep::whiten_block`].
+    pub fn adjoint_block<const W: usize>(&self, v: &[[f64; W]]) -> Vec<[f64; W]> {
         let r = self.r;
         let n = self.d.len();
-        let mut out = vec![0.0; n];
+        let mut out = vec![[0.0; W]; n];
         // The costate of the whitening's carried vector `f`.
-        let mut lambda = vec![0.0; r];
-        let mut carried = vec![0.0; r];
+        let mut lambda = vec![[0.0; W]; r];
+        let mut carried = vec![[0.0; W]; r];
         // `phi` of the window after this one.
         let (mut u, mut phi, mut next_phi) = (vec![0.0; r], vec![0.0; r], vec![0.0; r]);
         for k in (0..n).rev() {
             let i = self.windows.order[k];
             self.generators(k, &mut u, &mut phi);
             let w = &self.w[k * r..(k + 1) * r];
-            if k + 1 < n {
-                for a in 0..r {
-                    carried[a] = next_phi[a] * lambda[a];
-                }
-            } else {
-                carried.fill(0.0);
-            }
-            let t: f64 = (0..r).map(|a| w[a] * carried[a]).sum();
-            let scaled = v[i] / self.d[k].sqrt();
-            out[i] = scaled + t;
             for a in 0..r {
-                lambda[a] = carried[a] - u[a] * (scaled + t);
+                for b in 0..W {
+                    carried[a][b] = if k + 1 < n { next_phi[a] * lambda[a][b] } else { 0.0 };
+                }
+            }
+            // Summed term by term in this order, as `Iterator::sum` would.
+            let mut t = [-0.0; W];
+            for a in 0..r {
+                for b in 0..W {
+                    t[b] += w[a] * carried[a][b];
+                }
+            }
+            let sd = self.d[k].sqrt();
+            let total: [f64; W] = core::array::from_fn(|b| v[i][b] / sd + t[b]);
+            out[i] = total;
+            for a in 0..r {
+                for b in 0..W {
+                    lambda[a][b] = carried[a][b] - u[a] * total[b];
+                }
             }
             std::mem::swap(&mut phi, &mut next_phi);
         }
@@ -561,7 +574,7 @@ mod tests {
     }
 
     #[test]
-    fn blocks_whiten_and_colour_as_one_vector_at_a_time() {
+    fn blocks_whiten_colour_and_adjoin_as_one_vector_at_a_time() {
         let mut rng = Rng::new(12);
         let t = times(&mut rng, 40, 1.0);
         let model = NoiseModel {
@@ -573,12 +586,13 @@ mod tests {
         };
         let s = Semisep::of_windows(&model, &t, &vec![1.0; t.len()]).unwrap();
         let block: Vec<[f64; 3]> = t.iter().map(|_| [rng.gauss(), rng.gauss(), rng.gauss()]).collect();
-        let (white, coloured) = (s.whiten_block(&block), s.colour_block(&block));
+        let (white, coloured, back) = (s.whiten_block(&block), s.colour_block(&block), s.adjoint_block(&block));
         for b in 0..3 {
             let column: Vec<f64> = block.iter().map(|row| row[b]).collect();
             let by_block = |out: &[[f64; 3]]| -> Vec<f64> { out.iter().map(|row| row[b]).collect() };
             assert_eq!(by_block(&white), s.whiten(&column));
             assert_eq!(by_block(&coloured), s.colour(&column));
+            assert_eq!(by_block(&back), s.adjoint(&column));
         }
     }
 

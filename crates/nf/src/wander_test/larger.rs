@@ -1,0 +1,210 @@
+//! The larger designs of the wander test's draws, against the null's whitened design under
+//! one start: given columns ([`Nested`]), or a step in time at any of the jump scan's change
+//! points ([`Steps`]), each giving the RSS of many rate vectors under the null and the larger
+//! design at once.
+
+use crate::gls::Cov;
+
+/// A larger design of the draws under one start.
+pub(super) enum Larger {
+    Columns(Nested),
+    Steps(Steps),
+}
+
+impl Larger {
+    /// The RSS of `W` whitened rate vectors side by side under the null and the larger
+    /// design; `cov` the start's covariance, whose whitening they are.
+    pub(super) fn rss_block<const W: usize>(&self, cov: &Cov, y: &[[f64; W]]) -> [(f64, f64); W] {
+        match self {
+            Larger::Columns(n) => n.rss_block(y),
+            Larger::Steps(s) => s.rss_block(cov, y),
+        }
+    }
+}
+
+/// An orthonormal basis of whitened columns.
+#[derive(Default)]
+pub(super) struct Basis(Vec<Vec<f64>>);
+
+impl Basis {
+    /// `cols` added by Gram-Schmidt, twice over for its accuracy; a column dependent on the
+    /// others adds nothing.
+    fn extend(&mut self, cols: &[Vec<f64>]) {
+        for c in cols {
+            let mut v = c.clone();
+            for _ in 0..2 {
+                for b in &self.0 {
+                    let d: f64 = b.iter().zip(&v).map(|(x, y)| x * y).sum();
+                    v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
+                }
+            }
+            let norm = super::norm2(&v).sqrt();
+            if norm > 1e-9 * super::norm2(c).sqrt() {
+                self.0.push(v.iter().map(|x| x / norm).collect());
+            }
+        }
+    }
+}
+
+/// The null's whitened design and the effect's columns beyond it, for the RSS of many
+/// rates under both: one basis, the null's span its first `small` vectors.
+pub(super) struct Nested {
+    basis: Basis,
+    small: usize,
+}
+
+impl Nested {
+    pub(super) fn of(null: &[Vec<f64>], extra: &[Vec<f64>]) -> Nested {
+        let mut basis = Basis::default();
+        basis.extend(null);
+        let small = basis.0.len();
+        basis.extend(extra);
+        Nested { basis, small }
+    }
+
+    /// The RSS of `W` rate vectors side by side (row `i` their `i`th values), under the
+    /// null and under the larger design.
+    fn rss_block<const W: usize>(&self, y: &[[f64; W]]) -> [(f64, f64); W] {
+        let mut norm = [-0.0; W];
+        for row in y {
+            for b in 0..W {
+                norm[b] += row[b] * row[b];
+            }
+        }
+        let (mut along, mut small) = ([-0.0; W], [-0.0; W]);
+        for (k, q) in self.basis.0.iter().enumerate() {
+            if k == self.small {
+                small = along;
+            }
+            let mut dot = [-0.0; W];
+            for (x, row) in q.iter().zip(y) {
+                for b in 0..W {
+                    dot[b] += x * row[b];
+                }
+            }
+            for b in 0..W {
+                along[b] += dot[b].powi(2);
+            }
+        }
+        if self.small == self.basis.0.len() {
+            small = along;
+        }
+        core::array::from_fn(|b| ((norm[b] - small[b]).max(0.0), (norm[b] - along[b]).max(0.0)))
+    }
+}
+
+/// A step of the bias in time, `1 (t >= t_j)`, at the best of the change points `j` the jump's
+/// scan tries, beyond the null's whitened design: its RSS for a rate vector `y` whitened by
+/// `W` is the null's less the largest `((W^T e) . s_j)^2 / |P W s_j|^2`, with `e` the null's
+/// residual and `P` the projection off the null's span, every `j` in O(n r) through the
+/// adjoint's suffix sums (the rows in time order, as the scan takes them).
+pub(super) struct Steps {
+    null: Basis,
+    /// `|P W s_j|^2` per change point, 0 where it is not tried.
+    norms: Vec<f64>,
+}
+
+impl Steps {
+    /// The steps at change points `tried` (row indices) under `cov`, beyond the null's
+    /// whitened design `null`.
+    pub(super) fn of(cov: &Cov, null: &[Vec<f64>], tried: std::ops::Range<usize>) -> Steps {
+        let mut basis = Basis::default();
+        basis.extend(null);
+        let (_, whole) = cov.indicator_and_step_norms();
+        let mut norms = whole.clone();
+        for q in &basis.0 {
+            let back = cov.adjoint(q);
+            let mut along = 0.0;
+            for j in (0..norms.len()).rev() {
+                along += back[j];
+                norms[j] -= along * along;
+            }
+        }
+        for (j, (norm, whole)) in norms.iter_mut().zip(&whole).enumerate() {
+            // A step (nearly) in the null's span adds nothing.
+            if !tried.contains(&j) || *norm <= 1e-9 * whole {
+                *norm = 0.0;
+            }
+        }
+        Steps { null: basis, norms }
+    }
+
+    fn rss_block<const W: usize>(&self, cov: &Cov, y: &[[f64; W]]) -> [(f64, f64); W] {
+        let mut e = y.to_vec();
+        for q in &self.null.0 {
+            let mut dot = [-0.0; W];
+            for (x, row) in q.iter().zip(&e) {
+                for b in 0..W {
+                    dot[b] += x * row[b];
+                }
+            }
+            for (x, row) in q.iter().zip(e.iter_mut()) {
+                for b in 0..W {
+                    row[b] -= dot[b] * x;
+                }
+            }
+        }
+        let mut small = [-0.0; W];
+        for row in &e {
+            for b in 0..W {
+                small[b] += row[b] * row[b];
+            }
+        }
+        let back = cov.adjoint_block(&e);
+        let (mut along, mut most) = ([0.0; W], [0.0f64; W]);
+        for (row, &norm) in back.iter().zip(&self.norms).rev() {
+            for b in 0..W {
+                along[b] += row[b];
+                if norm > 0.0 {
+                    most[b] = most[b].max(along[b] * along[b] / norm);
+                }
+            }
+        }
+        core::array::from_fn(|b| (small[b], (small[b] - most[b]).max(0.0)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gls::WindowSet;
+    use nf_model::noise::NoiseModel;
+    use nf_model::rng::Rng;
+
+    #[test]
+    fn steps_give_the_rss_of_the_best_step_column() {
+        let mut rng = Rng::new(3);
+        let n = 30;
+        let t: Vec<f64> = (0..n).map(|i| 2.0 * i as f64 + rng.uniform(0.0, 0.5)).collect();
+        let model = NoiseModel {
+            bias_instability_dph: 0.01,
+            rrw_dph_rth: 0.05,
+            ..NoiseModel::white(0.01, 1.0)
+        };
+        let cov = WindowSet::new(&t, &vec![1.0; n]).cov(&model).unwrap();
+        let null: Vec<Vec<f64>> = [vec![1.0; n], t.iter().map(|v| (v / 9.0).sin()).collect()]
+            .iter()
+            .map(|c| cov.whiten(c))
+            .collect();
+        let steps = Steps::of(&cov, &null, 2..n - 2);
+        for _ in 0..5 {
+            let y: Vec<[f64; 2]> = (0..n).map(|_| [rng.gauss(), rng.gauss()]).collect();
+            let got = steps.rss_block(&cov, &y);
+            for b in 0..2 {
+                let one: Vec<[f64; 1]> = y.iter().map(|row| [row[b]]).collect();
+                let (small, large) = (2..n - 2)
+                    .map(|j| {
+                        let step: Vec<f64> = (0..n).map(|i| f64::from(u8::from(i >= j))).collect();
+                        Nested::of(&null, &[cov.whiten(&step)]).rss_block(&one)[0]
+                    })
+                    .fold((0.0, f64::MAX), |(_, l), (s, x)| (s, l.min(x)));
+                let close = |a: f64, e: f64| (a - e).abs() <= 1e-9 * e;
+                assert!(
+                    close(got[b].0, small) && close(got[b].1, large),
+                    "{:?} against {small}, {large}",
+                    got[b]
+                );
+            }
+        }
+    }
+}
