@@ -210,8 +210,10 @@ fn of_rival_explanations_the_one_the_averaging_weighs_most_is_named() {
             continue;
         };
         // The models in the order met: Eq. 7, the first step's alternatives, its choice, ...
-        // The tilt is corrected before the tests: it adds no model of its own.
-        if first.effect == Kind::ShaftTilt {
+        // The tilt is corrected before the tests: it adds no model of its own; nor does
+        // `unexplained`, said where neither is named (in 1 of the 40 the jump's step the draws
+        // of the null read as the wander its unmodelled encoder error gives it).
+        if matches!(first.effect, Kind::ShaftTilt | Kind::Unexplained) {
             continue;
         }
         let chosen = d.models.iter().position(|m| m.label == first.effect.name()).unwrap();

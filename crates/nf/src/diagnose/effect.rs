@@ -7,7 +7,7 @@ use super::tails::TailLaw;
 use super::whiten::Whitener;
 use crate::linfit::Ls;
 use crate::stats::f_sf;
-use crate::wander_test::LazyNull;
+use crate::wander_test::{Alternative, LazyNull};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Param {
@@ -60,12 +60,22 @@ pub enum Draws {
     /// Not asked: its p-value is final.
     No,
     /// To be read once the step's level is known ([`State::read_draws`]).
-    Pending,
+    Pending(Drawn),
     /// Read: `p` is at least their p-value.
     Read,
     /// Not made, `p` (its own test's and the F law's) being at or above the step's level
     /// already: a lower bound of the test's.
     Skipped,
+}
+
+/// What a proposal's draws test beyond the null.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Drawn {
+    /// Its columns.
+    Columns,
+    /// A step at any change point ([`Alternative::Step`]): the jump, whose column a scan
+    /// chose.
+    Step,
 }
 
 /// A fit of the model on columns whitened by one noise model.
@@ -156,8 +166,14 @@ impl State<'_> {
             let pw = match law {
                 Law::F { scan } => (pw * scan as f64).min(1.0),
                 Law::Drawn => {
-                    p.draws = Draws::Pending;
+                    p.draws = Draws::Pending(Drawn::Columns);
                     pw
+                }
+                Law::DrawnStep { scan } => {
+                    if null.draws() {
+                        p.draws = Draws::Pending(Drawn::Step);
+                    }
+                    (pw * scan as f64).min(1.0)
                 }
             };
             p.own_p = Some(p.p);
@@ -172,24 +188,25 @@ impl State<'_> {
     /// they are not made. The proposals share the draws (one null), and each stops once its
     /// p-value cannot fall under the level.
     pub fn read_draws(&self, cands: &mut [Proposal], limit: f64) {
-        let asked: Vec<(usize, &[Vec<f64>])> = cands
+        let asked: Vec<(usize, Alternative)> = cands
             .iter()
             .enumerate()
-            .filter(|(_, p)| p.draws == Draws::Pending && p.p < limit)
-            .filter_map(|(i, p)| match &p.change {
-                Change::Columns(cols) => Some((i, cols.as_slice())),
+            .filter(|(_, p)| p.p < limit)
+            .filter_map(|(i, p)| match (p.draws, &p.change) {
+                (Draws::Pending(Drawn::Step), _) => Some((i, Alternative::Step)),
+                (Draws::Pending(Drawn::Columns), Change::Columns(cols)) => Some((i, Alternative::Columns(cols))),
                 _ => None,
             })
             .collect();
         let drawn = match self.wander.get() {
             Some(null) if !asked.is_empty() => {
-                let extras: Vec<&[Vec<f64>]> = asked.iter().map(|(_, cols)| *cols).collect();
+                let extras: Vec<Alternative> = asked.iter().map(|(_, a)| *a).collect();
                 null.p_drawn(&extras, DRAWS, limit)
             }
             _ => Vec::new(),
         };
         let asked: Vec<usize> = asked.into_iter().map(|(i, _)| i).collect();
-        for p in cands.iter_mut().filter(|p| p.draws == Draws::Pending) {
+        for p in cands.iter_mut().filter(|p| matches!(p.draws, Draws::Pending(_))) {
             p.draws = if p.p >= limit { Draws::Skipped } else { Draws::No };
         }
         for (i, d) in asked.into_iter().zip(drawn) {
@@ -207,13 +224,18 @@ pub enum Law {
     /// As an F statistic, corrected for the `scan` candidates a scan chose from (1 without
     /// one). The encoder harmonics and the 2 psi harmonic: drawn from a null that takes
     /// them for wander, the moderate nonlinearity on white noise was named in 55 % of the
-    /// suite's runs instead of 90 %. The jump: its scan's correction is beyond the draws'
-    /// resolution.
+    /// suite's runs instead of 90 %.
     F { scan: usize },
     /// Against draws from the null's own noise model (`Null::p_drawn`) where the noise is
     /// estimated from the run, else as an F statistic: the drift and the temperature, the
     /// shapes a walk takes most often.
     Drawn,
+    /// The jump: as `F { scan }`, and where the noise is estimated from the run also the
+    /// best step's ratio against the best step's in draws of the null. A walk is a sum of
+    /// steps, which the F law under-reads; and where the null lacks another effect (a
+    /// drift's curve) the draws, which know nothing of it, over-read the step that takes
+    /// its place, which the scan's Bonferroni correction guards.
+    DrawnStep { scan: usize },
 }
 
 /// F test of `big` (with `q` more columns) against `small`.

@@ -1,6 +1,7 @@
 //! `bias_jump`: a step of the bias between two positions, scanned over the time order. The
-//! scan's best step is judged also by the wander test (a random walk is a sum of steps), and
-//! its p-value corrected for the n - 4 change points it chose from. A jump falls inside a
+//! scan's best step is judged also by the wander test (a random walk is a sum of steps): by
+//! the F law, corrected for the n - 4 change points it chose from, and where the null draws,
+//! also against the best step's ratio in its draws. A jump falls inside a
 //! dwell as often as not: that dwell's mean then holds part of it, and under a coloured
 //! whitening, which weighs the neighbouring dwells most, a step at a boundary sizes it short
 //! (0.83-0.89 of it in twin runs). So the chosen step is then let fall inside either
@@ -75,7 +76,7 @@ impl Effect for BiasJump {
                 own_p: None,
                 draws: Draws::No,
             },
-            Law::F { scan: n - 4 },
+            Law::DrawnStep { scan: n - 4 },
         )]
     }
 }

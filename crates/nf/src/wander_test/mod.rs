@@ -6,19 +6,25 @@
 //! the ratio is calibrated on white noise and finds a drift more often than the plug-in
 //! test, but over one run of a few dozen dwells a random walk still passes for a drift
 //! (the walk's slowest mode is one number), so `nf diagnose` asks both tests, and reads the
-//! ratio of a drift or a temperature against draws from the null rather than the F law.
+//! ratio of a drift or a temperature against draws from the null rather than the F law, and
+//! a jump's best step against the best step's in the draws as well as by the F law.
 //!
 //! The likelihood is restricted for the constant only: flicker and walk covariances are
 //! defined up to a constant (`crate::gls`), which the constant's contrasts do not see, and
 //! every design holds the constant, so the likelihoods of two designs compare.
+
+mod larger;
 
 use crate::gls::{Cov, WindowSet};
 use crate::linfit;
 use crate::quarter_contrasts::{Part, QuarterContrasts};
 use crate::sample_spread::{SampleSpread, Spread};
 use crate::stats::f_sf;
+use larger::{Larger, Nested, Steps};
 use nf_model::noise::NoiseModel;
 use std::cell::OnceCell;
+use std::rc::Rc;
+use std::sync::Arc;
 
 /// Draws of the null that reach the recording's likelihood ratio before the drawn p-value
 /// stops: it is then near 10 / draws, too large to matter.
@@ -44,7 +50,7 @@ pub struct WanderTest {
 #[derive(Clone)]
 struct Start {
     model: NoiseModel,
-    cov: Cov,
+    cov: Arc<Cov>,
     /// `-2 ln L` less the dwell means' whitened RSS: the covariances' log-determinants (the
     /// constant's contrast taken out) and the share of the quarters or the samples' spread.
     fixed: Part,
@@ -109,7 +115,7 @@ impl WanderTest {
 
     fn start(&self, model: NoiseModel) -> Option<Start> {
         let n = self.windows.count();
-        let cov = self.windows.cov(&model)?;
+        let cov = Arc::new(self.windows.cov(&model)?);
         let ln_ones = norm2(&cov.whiten(&vec![1.0; n])).ln();
         let dwells = Part {
             log_det: cov.log_det() + ln_ones,
@@ -123,139 +129,31 @@ impl WanderTest {
     /// The null hypothesis `y ~ cols` (`cols` holding the constant) at its best noise model,
     /// against which effects are then tested. Every start keeps its whitened design.
     pub fn null<'a>(&'a self, cols: &[Vec<f64>], y: &[f64]) -> Option<Null<'a>> {
-        let whitened: Vec<Whitened> = self
+        let at_starts: Vec<Rc<Visit>> = self
             .starts
             .iter()
-            .map(|s| Whitened {
-                cols: cols.iter().map(|c| s.cov.whiten(c)).collect(),
-                y: s.cov.whiten(y),
-            })
+            .map(|s| Rc::new(Visit::of(s.clone(), cols, y)))
             .collect();
-        let at = |i: usize, extra: &[Vec<f64>]| whitened[i].loglik(&self.starts[i], extra);
-        let (first, _) = (0..self.starts.len())
-            .filter_map(|i| Some((i, at(i, &[])?)))
+        let (first, _) = at_starts
+            .iter()
+            .filter_map(|v| Some((Rc::clone(v), v.loglik(&[])?)))
             .max_by(|a, b| a.1.total_cmp(&b.1))?;
-        let (best, loglik) = self.refine(self.starts[first].clone(), cols, y, &[])?;
-        Some(Null {
+        let mut null = Null {
             test: self,
             cols: cols.to_vec(),
             y: y.to_vec(),
-            whitened,
-            best,
-            loglik,
-        })
+            best: first,
+            loglik: f64::NAN,
+            at_starts,
+        };
+        (null.best, null.loglik) = null.refine(Rc::clone(&null.best), &[])?;
+        Some(null)
     }
 
     /// The observations the likelihood sees: the dwell means' contrasts and the quarters' or
     /// the spread's.
     fn count(&self) -> usize {
         self.windows.count() - 1 + self.quarters.count() + self.spread.count()
-    }
-
-    /// The log-likelihood of `y ~ cols + extra` under `s`.
-    fn loglik(&self, s: &Start, cols: &[Vec<f64>], y: &[f64], extra: &[Vec<f64>]) -> Option<f64> {
-        let white: Vec<Vec<f64>> = cols.iter().chain(extra).map(|c| s.cov.whiten(c)).collect();
-        s.loglik(linfit::fit(&white, &s.cov.whiten(y))?.rss)
-    }
-
-    /// The model near `from` (in halving steps of B^2 and K^2) most likely for
-    /// `y ~ cols + extra`, and its log-likelihood.
-    fn refine(&self, from: Start, cols: &[Vec<f64>], y: &[f64], extra: &[Vec<f64>]) -> Option<(Start, f64)> {
-        let loglik = |s: &Start| self.loglik(s, cols, y, extra);
-        let mut top = loglik(&from)?;
-        let mut at = from;
-        let mut step = 10f64.powf(0.25);
-        for _ in 0..REFINE {
-            for (fb, fk) in [(step, 1.0), (1.0 / step, 1.0), (1.0, step), (1.0, 1.0 / step)] {
-                let moved = NoiseModel {
-                    bias_instability_dph: at.model.bias_instability_dph * fb.sqrt(),
-                    rrw_dph_rth: at.model.rrw_dph_rth * fk.sqrt(),
-                    ..at.model
-                };
-                if same(&moved, &at.model) {
-                    continue;
-                }
-                let Some(s) = self.start(moved) else { continue };
-                if let Some(l) = loglik(&s)
-                    && l > top
-                {
-                    (at, top) = (s, l);
-                }
-            }
-            step = step.sqrt();
-        }
-        Some((at, top))
-    }
-}
-
-/// An orthonormal basis of whitened columns.
-#[derive(Default)]
-struct Basis(Vec<Vec<f64>>);
-
-impl Basis {
-    /// `cols` added by Gram-Schmidt, twice over for its accuracy; a column dependent on the
-    /// others adds nothing.
-    fn extend(&mut self, cols: &[Vec<f64>]) {
-        for c in cols {
-            let mut v = c.clone();
-            for _ in 0..2 {
-                for b in &self.0 {
-                    let d: f64 = b.iter().zip(&v).map(|(x, y)| x * y).sum();
-                    v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
-                }
-            }
-            let norm = norm2(&v).sqrt();
-            if norm > 1e-9 * norm2(c).sqrt() {
-                self.0.push(v.iter().map(|x| x / norm).collect());
-            }
-        }
-    }
-}
-
-/// The null's whitened design and the effect's columns beyond it, for the RSS of many
-/// rates under both: one basis, the null's span its first `small` vectors.
-struct Nested {
-    basis: Basis,
-    small: usize,
-}
-
-impl Nested {
-    fn of(null: &[Vec<f64>], extra: &[Vec<f64>]) -> Nested {
-        let mut basis = Basis::default();
-        basis.extend(null);
-        let small = basis.0.len();
-        basis.extend(extra);
-        Nested { basis, small }
-    }
-
-    /// The RSS of `W` rate vectors side by side (row `i` their `i`th values), under the
-    /// null and under the larger design.
-    fn rss_block<const W: usize>(&self, y: &[[f64; W]]) -> [(f64, f64); W] {
-        let mut norm = [-0.0; W];
-        for row in y {
-            for b in 0..W {
-                norm[b] += row[b] * row[b];
-            }
-        }
-        let (mut along, mut small) = ([-0.0; W], [-0.0; W]);
-        for (k, q) in self.basis.0.iter().enumerate() {
-            if k == self.small {
-                small = along;
-            }
-            let mut dot = [-0.0; W];
-            for (x, row) in q.iter().zip(y) {
-                for b in 0..W {
-                    dot[b] += x * row[b];
-                }
-            }
-            for b in 0..W {
-                along[b] += dot[b].powi(2);
-            }
-        }
-        if self.small == self.basis.0.len() {
-            small = along;
-        }
-        core::array::from_fn(|b| ((norm[b] - small[b]).max(0.0), (norm[b] - along[b]).max(0.0)))
     }
 }
 
@@ -264,7 +162,7 @@ impl Nested {
 /// `live` are skipped. Each start's whitening serves every extra.
 fn ratios<const W: usize>(
     starts: &[Start],
-    bases: &[Vec<Nested>],
+    bases: &[Vec<Larger>],
     white: impl Fn(usize) -> Vec<[f64; W]>,
     live: &[bool],
 ) -> Vec<[Option<f64>; W]> {
@@ -272,7 +170,7 @@ fn ratios<const W: usize>(
     for (i, start) in starts.iter().enumerate() {
         let w = white(i);
         for (e, best) in best.iter_mut().enumerate().filter(|(e, _)| live[*e]) {
-            for (b, rss) in bases[e][i].rss_block(&w).into_iter().enumerate() {
+            for (b, rss) in bases[e][i].rss_block(&start.cov, &w).into_iter().enumerate() {
                 best[b] = best[b]
                     .zip(start.loglik(rss.0))
                     .zip(start.loglik(rss.1))
@@ -335,19 +233,42 @@ impl Tally {
     }
 }
 
-/// A start's whitening of the null's design and rates.
-struct Whitened {
+/// A noise model the null was fitted under (a start, or a model a search visited), and the
+/// null's design and rates whitened by it.
+struct Visit {
+    start: Start,
     cols: Vec<Vec<f64>>,
     y: Vec<f64>,
 }
 
-impl Whitened {
-    /// The log-likelihood under `s` (whose whitening this is) with `extra`, already
-    /// whitened, added to the columns.
-    fn loglik(&self, s: &Start, extra: &[Vec<f64>]) -> Option<f64> {
+impl Visit {
+    fn of(start: Start, cols: &[Vec<f64>], y: &[f64]) -> Visit {
+        Visit {
+            cols: cols.iter().map(|c| start.cov.whiten(c)).collect(),
+            y: start.cov.whiten(y),
+            start,
+        }
+    }
+
+    /// `extra`'s larger design beyond this whitened null.
+    fn larger(&self, extra: &Alternative) -> Larger {
+        match extra {
+            Alternative::Columns(cols) => {
+                let white: Vec<Vec<f64>> = cols.iter().map(|c| self.start.cov.whiten(c)).collect();
+                Larger::Columns(Nested::of(&self.cols, &white))
+            }
+            Alternative::Step => {
+                let n = self.y.len();
+                Larger::Steps(Steps::of(&self.start.cov, &self.cols, 2..n.saturating_sub(2)))
+            }
+        }
+    }
+
+    /// The log-likelihood with `extra`, not yet whitened, added to the columns.
+    fn loglik(&self, extra: &[Vec<f64>]) -> Option<f64> {
         let mut cols = self.cols.clone();
-        cols.extend(extra.iter().cloned());
-        s.loglik(linfit::fit(&cols, &self.y)?.rss)
+        cols.extend(extra.iter().map(|c| self.start.cov.whiten(c)));
+        self.start.loglik(linfit::fit(&cols, &self.y)?.rss)
     }
 }
 
@@ -376,16 +297,30 @@ impl<'a> LazyNull<'a> {
     }
 }
 
+/// What a drawn ratio tests beyond the null.
+#[derive(Debug, Clone, Copy)]
+pub enum Alternative<'x> {
+    /// These columns.
+    Columns(&'x [Vec<f64>]),
+    /// A step of the bias at any change point in time the jump's scan tries (all but the
+    /// first two and last two): the ratio at the best, whose law under the null takes the
+    /// scan's choice into account, where a ratio at the chosen step read against the F law
+    /// and corrected by Bonferroni over the change points is near-blind to how a walk,
+    /// itself a sum of steps, makes one.
+    Step,
+}
+
 /// A fitted null hypothesis of the wander test.
 pub struct Null<'a> {
     test: &'a WanderTest,
     cols: Vec<Vec<f64>>,
     y: Vec<f64>,
-    whitened: Vec<Whitened>,
     /// Its best noise model, where the search under the alternative also starts: the larger
     /// design is then at least as likely.
-    best: Start,
+    best: Rc<Visit>,
     loglik: f64,
+    /// Under each of the test's starts.
+    at_starts: Vec<Rc<Visit>>,
 }
 
 impl Null<'_> {
@@ -418,30 +353,21 @@ impl Null<'_> {
     /// start's designs are factored once. One p-value per extra, all from the same draws,
     /// each stopped once `EXCEEDED` have reached it, once the p-value can no longer fall
     /// under `limit`, or at `most`. `None` where the test does not draw.
-    pub fn p_drawn(&self, extras: &[&[Vec<f64>]], most: usize, limit: f64) -> Vec<Option<f64>> {
+    pub fn p_drawn(&self, extras: &[Alternative], most: usize, limit: f64) -> Vec<Option<f64>> {
         let none = vec![None; extras.len()];
         if !self.test.draws {
             return none;
         }
         let starts = &self.test.starts;
         // Per extra, per start.
-        let bases: Vec<Vec<Nested>> = extras
+        let bases: Vec<Vec<Larger>> = extras
             .iter()
-            .map(|extra| {
-                starts
-                    .iter()
-                    .zip(&self.whitened)
-                    .map(|(s, w)| {
-                        let extra: Vec<Vec<f64>> = extra.iter().map(|c| s.cov.whiten(c)).collect();
-                        Nested::of(&w.cols, &extra)
-                    })
-                    .collect()
-            })
+            .map(|extra| self.at_starts.iter().map(|v| v.larger(extra)).collect())
             .collect();
         let observed: Vec<[Option<f64>; 1]> = ratios(
             starts,
             &bases,
-            |i| self.whitened[i].y.iter().map(|&v| [v]).collect(),
+            |i| self.at_starts[i].y.iter().map(|&v| [v]).collect(),
             &vec![true; extras.len()],
         );
         let Some((mean, level)) = self.fitted() else {
@@ -458,7 +384,7 @@ impl Null<'_> {
             for b in 0..BLOCK {
                 z.iter_mut().for_each(|row| row[b] = rng.gauss());
             }
-            let noise = self.best.cov.colour_block(&z);
+            let noise = self.best.start.cov.colour_block(&z);
             let y: Vec<[f64; BLOCK]> = mean
                 .iter()
                 .zip(&noise)
@@ -476,10 +402,10 @@ impl Null<'_> {
     /// The null's fitted rates and white level, which every draw adds noise of its best
     /// model to.
     fn fitted(&self) -> Option<(Vec<f64>, f64)> {
-        let s = &self.best;
-        let white: Vec<Vec<f64>> = self.cols.iter().map(|c| s.cov.whiten(c)).collect();
-        let fit = linfit::fit(&white, &s.cov.whiten(&self.y))?;
-        let (_, level) = s
+        let fit = linfit::fit(&self.best.cols, &self.best.y)?;
+        let (_, level) = self
+            .best
+            .start
             .fixed
             .plus(Part {
                 log_det: 0.0,
@@ -493,24 +419,55 @@ impl Null<'_> {
         Some((mean, level))
     }
 
+    /// Whether its p-values can be read against draws ([`Null::p_drawn`]).
+    pub fn draws(&self) -> bool {
+        self.test.draws
+    }
+
     /// Twice the log-likelihood gained by `extra`, each side at its best noise model.
     fn lr(&self, extra: &[Vec<f64>]) -> Option<f64> {
-        let t = self.test;
-        let best_start = (0..t.starts.len())
-            .filter_map(|i| {
-                let s = &t.starts[i];
-                let white: Vec<Vec<f64>> = extra.iter().map(|c| s.cov.whiten(c)).collect();
-                Some((&t.starts[i], self.whitened[i].loglik(s, &white)?))
-            })
+        let best_start = self
+            .at_starts
+            .iter()
+            .filter_map(|v| Some((v, v.loglik(extra)?)))
             .max_by(|a, b| a.1.total_cmp(&b.1));
-        let at_null = t.loglik(&self.best, &self.cols, &self.y, extra);
-        let from = match (best_start, at_null) {
-            (Some((s, l)), Some(n)) if l > n => s,
-            (Some((s, _)), None) => s,
+        let from = match (best_start, self.best.loglik(extra)) {
+            (Some((v, l)), Some(n)) if l > n => v,
+            (Some((v, _)), None) => v,
             _ => &self.best,
         };
-        let (_, large) = t.refine(from.clone(), &self.cols, &self.y, extra)?;
+        let (_, large) = self.refine(Rc::clone(from), extra)?;
         Some((2.0 * (large - self.loglik)).max(0.0))
+    }
+
+    /// The model near `from` (in halving steps of B^2 and K^2) most likely for
+    /// `y ~ cols + extra`, and its log-likelihood.
+    fn refine(&self, from: Rc<Visit>, extra: &[Vec<f64>]) -> Option<(Rc<Visit>, f64)> {
+        let mut top = from.loglik(extra)?;
+        let mut at = from;
+        let mut step = 10f64.powf(0.25);
+        for _ in 0..REFINE {
+            for (fb, fk) in [(step, 1.0), (1.0 / step, 1.0), (1.0, step), (1.0, 1.0 / step)] {
+                let model = &at.start.model;
+                let moved = NoiseModel {
+                    bias_instability_dph: model.bias_instability_dph * fb.sqrt(),
+                    rrw_dph_rth: model.rrw_dph_rth * fk.sqrt(),
+                    ..*model
+                };
+                if same(&moved, model) {
+                    continue;
+                }
+                let Some(start) = self.test.start(moved) else { continue };
+                let v = Rc::new(Visit::of(start, &self.cols, &self.y));
+                if let Some(l) = v.loglik(extra)
+                    && l > top
+                {
+                    (at, top) = (v, l);
+                }
+            }
+            step = step.sqrt();
+        }
+        Some((at, top))
     }
 }
 
@@ -623,7 +580,7 @@ mod tests {
         let test = WanderTest::new(&t, 1.0, &[], &[], &models).unwrap();
         let ours: Vec<f64> = models
             .iter()
-            .map(|m| test.loglik(&test.start(unit(m)).unwrap(), &cols, &y, &[]).unwrap())
+            .map(|m| Visit::of(test.start(unit(m)).unwrap(), &cols, &y).loglik(&[]).unwrap())
             .collect();
         let theirs: Vec<f64> = models.iter().map(|m| reference(m, &t, &cols, &y)).collect();
         for i in 1..models.len() {
@@ -680,7 +637,7 @@ mod tests {
                 let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 f += usize::from(null.p_value(&curve(&r)).unwrap() < level);
-                drawn += usize::from(null.p_drawn(&[&curve(&r)], 400, level)[0].unwrap() < level);
+                drawn += usize::from(null.p_drawn(&[Alternative::Columns(&curve(&r))], 400, level)[0].unwrap() < level);
             }
             println!("n {n} rrw {rrw} drift {drift}: below {level}: F {f}, drawn {drawn} of 60");
             (f, drawn)
@@ -693,6 +650,39 @@ mod tests {
     }
 
     #[test]
+    fn drawn_against_the_best_step_a_walk_makes_fewer_jumps_and_a_jump_is_still_found() {
+        // The jump's scan over change points 2..n-2, read as the F law corrected by
+        // Bonferroni, against the best step's ratio in draws of the null.
+        let below = |rrw: f64, jump: f64, level: f64| {
+            let (mut f, mut drawn) = (0, 0);
+            for seed in 0..60 {
+                let mut r = run(48, rrw, 0.0, 900 + seed);
+                let n = r.y.len();
+                let at = n / 2 + (seed % 7) as usize;
+                r.y.iter_mut().skip(at).for_each(|v| *v += jump);
+                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
+                let null = test.null(&r.cols, &r.y).unwrap();
+                let scanned = (2..n - 2)
+                    .filter_map(|j| {
+                        let step: Vec<f64> = (0..n).map(|i| f64::from(u8::from(i >= j))).collect();
+                        null.p_value(&[step])
+                    })
+                    .fold(1.0f64, f64::min);
+                f += usize::from(scanned * ((n - 4) as f64) < level);
+                drawn += usize::from(null.p_drawn(&[Alternative::Step], 400, level)[0].unwrap() < level);
+            }
+            println!("rrw {rrw} jump {jump}: below {level}: F and Bonferroni {f}, drawn {drawn} of 60");
+            (f, drawn)
+        };
+        // A walk of about three times a dwell mean's white noise (0.01 deg/h) per dwell.
+        let (f, drawn) = below(1.5, 0.0, 0.01);
+        assert!(drawn < f && drawn <= 3, "F {f}, drawn {drawn}");
+        // A jump of 8 dwell sigmas on white noise.
+        let (_, drawn) = below(0.0, 0.08, 0.01);
+        assert!(drawn >= 50, "{drawn} of 60 jumps");
+    }
+
+    #[test]
     fn draws_stopped_at_the_level_decide_as_all_of_them_would() {
         let curve = |r: &SweepRun| vec![r.t.clone(), r.t.iter().map(|v| v * v).collect()];
         let mut decided = [0, 0];
@@ -700,9 +690,9 @@ mod tests {
             let r = run(36, 0.5, 4e-4 * (seed % 3) as f64, 700 + seed);
             let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
             let null = test.null(&r.cols, &r.y).unwrap();
-            let all = null.p_drawn(&[&curve(&r)], 400, 1.0)[0].unwrap();
+            let all = null.p_drawn(&[Alternative::Columns(&curve(&r))], 400, 1.0)[0].unwrap();
             for level in [0.004, 0.01, 0.05] {
-                let stopped = null.p_drawn(&[&curve(&r)], 400, level)[0].unwrap();
+                let stopped = null.p_drawn(&[Alternative::Columns(&curve(&r))], 400, level)[0].unwrap();
                 assert_eq!(
                     stopped < level,
                     all < level,
@@ -725,8 +715,8 @@ mod tests {
         let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
         let null = test.null(&r.cols, &r.y).unwrap();
         for limit in [0.004, 1.0] {
-            let together = null.p_drawn(&[&line, &curve], 400, limit);
-            let alone = [&line, &curve].map(|x| null.p_drawn(&[x], 400, limit)[0]);
+            let together = null.p_drawn(&[Alternative::Columns(&line), Alternative::Columns(&curve)], 400, limit);
+            let alone = [&line, &curve].map(|x| null.p_drawn(&[Alternative::Columns(x)], 400, limit)[0]);
             assert_eq!(together, alone.to_vec(), "limit {limit}");
         }
     }
@@ -741,7 +731,7 @@ mod tests {
                 let null = test.null(&r.cols, &r.y).unwrap();
                 // The white level of the quarters: 0.02 deg/h over a quarter second.
                 let white = 0.02 * 0.25f64.sqrt() / 60.0;
-                null.best.model.rrw_dph_rth * white / null.best.model.arw_deg_rth / 2.0
+                null.best.start.model.rrw_dph_rth * white / null.best.start.model.arw_deg_rth / 2.0
             })
             .collect();
         ratios.sort_by(f64::total_cmp);
