@@ -7,7 +7,7 @@ use super::tails::TailLaw;
 use super::whiten::Whitener;
 use crate::linfit::Ls;
 use crate::stats::f_sf;
-use crate::wander_test::{Alternative, LazyNull};
+use crate::wander_test::{Alternative, ChangePoints, LazyNull};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Param {
@@ -73,9 +73,9 @@ pub enum Draws {
 pub enum Drawn {
     /// Its columns.
     Columns,
-    /// A step at any change point ([`Alternative::Step`]): the jump, whose column a scan
-    /// chose.
-    Step,
+    /// A step at any of these change points ([`Alternative::Step`]): the jump, whose column
+    /// a scan of them chose.
+    Step(ChangePoints),
 }
 
 /// A fit of the model on columns whitened by one noise model.
@@ -169,11 +169,11 @@ impl State<'_> {
                     p.draws = Draws::Pending(Drawn::Columns);
                     pw
                 }
-                Law::DrawnStep { scan } => {
+                Law::DrawnStep { tried } => {
                     if null.draws() {
-                        p.draws = Draws::Pending(Drawn::Step);
+                        p.draws = Draws::Pending(Drawn::Step(tried));
                     }
-                    (pw * scan as f64).min(1.0)
+                    (pw * tried.count() as f64).min(1.0)
                 }
             };
             p.own_p = Some(p.p);
@@ -193,7 +193,7 @@ impl State<'_> {
             .enumerate()
             .filter(|(_, p)| p.p < limit)
             .filter_map(|(i, p)| match (p.draws, &p.change) {
-                (Draws::Pending(Drawn::Step), _) => Some((i, Alternative::Step)),
+                (Draws::Pending(Drawn::Step(tried)), _) => Some((i, Alternative::Step(tried))),
                 (Draws::Pending(Drawn::Columns), Change::Columns(cols)) => Some((i, Alternative::Columns(cols))),
                 _ => None,
             })
@@ -230,12 +230,13 @@ pub enum Law {
     /// estimated from the run, else as an F statistic: the drift and the temperature, the
     /// shapes a walk takes most often.
     Drawn,
-    /// The jump: as `F { scan }`, and where the noise is estimated from the run also the
+    /// The jump scanned over change points `tried`: as `F { scan }` with the scan their
+    /// count, and where the noise is estimated from the run also the
     /// best step's ratio against the best step's in draws of the null. A walk is a sum of
     /// steps, which the F law under-reads; and where the null lacks another effect (a
     /// drift's curve) the draws, which know nothing of it, over-read the step that takes
     /// its place, which the scan's Bonferroni correction guards.
-    DrawnStep { scan: usize },
+    DrawnStep { tried: ChangePoints },
 }
 
 /// F test of `big` (with `q` more columns) against `small`.

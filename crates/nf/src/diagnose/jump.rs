@@ -1,6 +1,6 @@
 //! `bias_jump`: a step of the bias between two positions, scanned over the time order. The
 //! scan's best step is judged also by the wander test (a random walk is a sum of steps): by
-//! the F law, corrected for the n - 4 change points it chose from, and where the null draws,
+//! the F law, corrected for the change points it chose from, and where the null draws,
 //! also against the best step's ratio in its draws. A jump falls inside a
 //! dwell as often as not: that dwell's mean then holds part of it, and under a coloured
 //! whitening, which weighs the neighbouring dwells most, a step at a boundary sizes it short
@@ -10,6 +10,7 @@
 use super::effect::{Change, Draws, Effect, Law, Proposal, State, f_test, param};
 use super::kind::Kind;
 use super::scan::{Shape, scan};
+use crate::wander_test::ChangePoints;
 
 pub struct BiasJump;
 
@@ -25,7 +26,9 @@ impl Effect for BiasJump {
             return Vec::new();
         }
         let fits = scan(s.drift, Shape::Step);
-        let best = (2..n - 2)
+        let tried = ChangePoints::inner(n);
+        let best = tried
+            .range()
             .filter_map(|j| {
                 let big = fits[j]?;
                 Some((f_test(s.drift.fit.rss, big.rss, 1, big.dof), j, big))
@@ -64,7 +67,7 @@ impl Effect for BiasJump {
         vec![s.wander_judged(
             Proposal {
                 kind: Kind::BiasJump,
-                p: (p * (n - 4) as f64).min(1.0),
+                p: (p * tried.count() as f64).min(1.0),
                 change: Change::Columns(vec![at.col]),
                 parameters: vec![
                     param("size_dph", at.size.0, Some(at.size.1)),
@@ -76,7 +79,7 @@ impl Effect for BiasJump {
                 own_p: None,
                 draws: Draws::No,
             },
-            Law::DrawnStep { scan: n - 4 },
+            Law::DrawnStep { tried },
         )]
     }
 }

@@ -5,13 +5,13 @@
 
 use crate::gls::Cov;
 
-/// A larger design of the draws under one start.
-pub(super) enum Larger {
-    Columns(Nested),
-    Steps(Steps),
+/// A larger design of the draws under one start, beyond the null's basis there.
+pub(super) enum Larger<'v> {
+    Columns(Nested<'v>),
+    Steps(Steps<'v>),
 }
 
-impl Larger {
+impl Larger<'_> {
     /// The RSS of `W` whitened rate vectors side by side under the null and the larger
     /// design; `cov` the start's covariance, whose whitening they are.
     pub(super) fn rss_block<const W: usize>(&self, cov: &Cov, y: &[[f64; W]]) -> [(f64, f64); W] {
@@ -27,69 +27,63 @@ impl Larger {
 pub(super) struct Basis(Vec<Vec<f64>>);
 
 impl Basis {
-    /// `cols` added by Gram-Schmidt, twice over for its accuracy; a column dependent on the
-    /// others adds nothing.
-    fn extend(&mut self, cols: &[Vec<f64>]) {
+    pub(super) fn of(cols: &[Vec<f64>]) -> Basis {
+        Basis::beyond(&Basis::default(), cols)
+    }
+
+    /// `cols` made orthonormal to `under` and each other by Gram-Schmidt, twice over for its
+    /// accuracy; a column dependent on the others adds nothing.
+    fn beyond(under: &Basis, cols: &[Vec<f64>]) -> Basis {
+        let mut basis = Basis::default();
         for c in cols {
             let mut v = c.clone();
             for _ in 0..2 {
-                for b in &self.0 {
+                for b in under.0.iter().chain(&basis.0) {
                     let d: f64 = b.iter().zip(&v).map(|(x, y)| x * y).sum();
                     v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
                 }
             }
             let norm = super::norm2(&v).sqrt();
             if norm > 1e-9 * super::norm2(c).sqrt() {
-                self.0.push(v.iter().map(|x| x / norm).collect());
+                basis.0.push(v.iter().map(|x| x / norm).collect());
             }
         }
+        basis
     }
 }
 
-/// The null's whitened design and the effect's columns beyond it, for the RSS of many
-/// rates under both: one basis, the null's span its first `small` vectors.
-pub(super) struct Nested {
-    basis: Basis,
-    small: usize,
+/// The null's basis and the effect's columns beyond it, for the RSS of many rates under
+/// both.
+pub(super) struct Nested<'v> {
+    null: &'v Basis,
+    extra: Basis,
 }
 
-impl Nested {
-    pub(super) fn of(null: &[Vec<f64>], extra: &[Vec<f64>]) -> Nested {
-        let mut basis = Basis::default();
-        basis.extend(null);
-        let small = basis.0.len();
-        basis.extend(extra);
-        Nested { basis, small }
+impl<'v> Nested<'v> {
+    pub(super) fn of(null: &'v Basis, extra: &[Vec<f64>]) -> Nested<'v> {
+        Nested {
+            null,
+            extra: Basis::beyond(null, extra),
+        }
     }
 
     /// The RSS of `W` rate vectors side by side (row `i` their `i`th values), under the
     /// null and under the larger design.
     fn rss_block<const W: usize>(&self, y: &[[f64; W]]) -> [(f64, f64); W] {
-        let mut norm = [-0.0; W];
-        for row in y {
-            for b in 0..W {
-                norm[b] += row[b] * row[b];
-            }
-        }
-        let (mut along, mut small) = ([-0.0; W], [-0.0; W]);
-        for (k, q) in self.basis.0.iter().enumerate() {
-            if k == self.small {
-                small = along;
-            }
-            let mut dot = [-0.0; W];
-            for (x, row) in q.iter().zip(y) {
+        let norm = norm_block(y);
+        let mut along = [-0.0; W];
+        let mut add = |basis: &Basis| {
+            for q in &basis.0 {
+                let dot = dot_block(q, y);
                 for b in 0..W {
-                    dot[b] += x * row[b];
+                    along[b] += dot[b].powi(2);
                 }
             }
-            for b in 0..W {
-                along[b] += dot[b].powi(2);
-            }
-        }
-        if self.small == self.basis.0.len() {
-            small = along;
-        }
-        core::array::from_fn(|b| ((norm[b] - small[b]).max(0.0), (norm[b] - along[b]).max(0.0)))
+            along
+        };
+        let small = add(self.null);
+        let large = add(&self.extra);
+        core::array::from_fn(|b| ((norm[b] - small[b]).max(0.0), (norm[b] - large[b]).max(0.0)))
     }
 }
 
@@ -98,21 +92,19 @@ impl Nested {
 /// `W` is the null's less the largest `((W^T e) . s_j)^2 / |P W s_j|^2`, with `e` the null's
 /// residual and `P` the projection off the null's span, every `j` in O(n r) through the
 /// adjoint's suffix sums (the rows in time order, as the scan takes them).
-pub(super) struct Steps {
-    null: Basis,
+pub(super) struct Steps<'v> {
+    null: &'v Basis,
     /// `|P W s_j|^2` per change point, 0 where it is not tried.
     norms: Vec<f64>,
 }
 
-impl Steps {
+impl<'v> Steps<'v> {
     /// The steps at change points `tried` (row indices) under `cov`, beyond the null's
-    /// whitened design `null`.
-    pub(super) fn of(cov: &Cov, null: &[Vec<f64>], tried: std::ops::Range<usize>) -> Steps {
-        let mut basis = Basis::default();
-        basis.extend(null);
+    /// basis under it.
+    pub(super) fn of(cov: &Cov, null: &'v Basis, tried: std::ops::Range<usize>) -> Steps<'v> {
         let (_, whole) = cov.indicator_and_step_norms();
         let mut norms = whole.clone();
-        for q in &basis.0 {
+        for q in &null.0 {
             let back = cov.adjoint(q);
             let mut along = 0.0;
             for j in (0..norms.len()).rev() {
@@ -126,30 +118,20 @@ impl Steps {
                 *norm = 0.0;
             }
         }
-        Steps { null: basis, norms }
+        Steps { null, norms }
     }
 
     fn rss_block<const W: usize>(&self, cov: &Cov, y: &[[f64; W]]) -> [(f64, f64); W] {
         let mut e = y.to_vec();
         for q in &self.null.0 {
-            let mut dot = [-0.0; W];
-            for (x, row) in q.iter().zip(&e) {
-                for b in 0..W {
-                    dot[b] += x * row[b];
-                }
-            }
+            let dot = dot_block(q, &e);
             for (x, row) in q.iter().zip(e.iter_mut()) {
                 for b in 0..W {
                     row[b] -= dot[b] * x;
                 }
             }
         }
-        let mut small = [-0.0; W];
-        for row in &e {
-            for b in 0..W {
-                small[b] += row[b] * row[b];
-            }
-        }
+        let small = norm_block(&e);
         let back = cov.adjoint_block(&e);
         let (mut along, mut most) = ([0.0; W], [0.0f64; W]);
         for (row, &norm) in back.iter().zip(&self.norms).rev() {
@@ -162,6 +144,28 @@ impl Steps {
         }
         core::array::from_fn(|b| (small[b], (small[b] - most[b]).max(0.0)))
     }
+}
+
+/// `q . y` for `W` vectors side by side.
+fn dot_block<const W: usize>(q: &[f64], y: &[[f64; W]]) -> [f64; W] {
+    let mut dot = [-0.0; W];
+    for (x, row) in q.iter().zip(y) {
+        for b in 0..W {
+            dot[b] += x * row[b];
+        }
+    }
+    dot
+}
+
+/// `|y|^2` for `W` vectors side by side.
+fn norm_block<const W: usize>(y: &[[f64; W]]) -> [f64; W] {
+    let mut norm = [-0.0; W];
+    for row in y {
+        for b in 0..W {
+            norm[b] += row[b] * row[b];
+        }
+    }
+    norm
 }
 
 #[cfg(test)]
@@ -186,7 +190,8 @@ mod tests {
             .iter()
             .map(|c| cov.whiten(c))
             .collect();
-        let steps = Steps::of(&cov, &null, 2..n - 2);
+        let basis = Basis::of(&null);
+        let steps = Steps::of(&cov, &basis, 2..n - 2);
         for _ in 0..5 {
             let y: Vec<[f64; 2]> = (0..n).map(|_| [rng.gauss(), rng.gauss()]).collect();
             let got = steps.rss_block(&cov, &y);
@@ -195,7 +200,7 @@ mod tests {
                 let (small, large) = (2..n - 2)
                     .map(|j| {
                         let step: Vec<f64> = (0..n).map(|i| f64::from(u8::from(i >= j))).collect();
-                        Nested::of(&null, &[cov.whiten(&step)]).rss_block(&one)[0]
+                        Nested::of(&basis, &[cov.whiten(&step)]).rss_block(&one)[0]
                     })
                     .fold((0.0, f64::MAX), |(_, l), (s, x)| (s, l.min(x)));
                 let close = |a: f64, e: f64| (a - e).abs() <= 1e-9 * e;

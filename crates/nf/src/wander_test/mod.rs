@@ -20,7 +20,7 @@ use crate::linfit;
 use crate::quarter_contrasts::{Part, QuarterContrasts};
 use crate::sample_spread::{SampleSpread, Spread};
 use crate::stats::f_sf;
-use larger::{Larger, Nested, Steps};
+use larger::{Basis, Larger, Nested, Steps};
 use nf_model::noise::NoiseModel;
 use std::cell::OnceCell;
 use std::rc::Rc;
@@ -239,6 +239,9 @@ struct Visit {
     start: Start,
     cols: Vec<Vec<f64>>,
     y: Vec<f64>,
+    /// The whitened design's orthonormal basis, which every larger design of the draws
+    /// extends.
+    basis: OnceCell<Basis>,
 }
 
 impl Visit {
@@ -247,20 +250,19 @@ impl Visit {
             cols: cols.iter().map(|c| start.cov.whiten(c)).collect(),
             y: start.cov.whiten(y),
             start,
+            basis: OnceCell::new(),
         }
     }
 
     /// `extra`'s larger design beyond this whitened null.
-    fn larger(&self, extra: &Alternative) -> Larger {
+    fn larger(&self, extra: &Alternative) -> Larger<'_> {
+        let basis = self.basis.get_or_init(|| Basis::of(&self.cols));
         match extra {
             Alternative::Columns(cols) => {
                 let white: Vec<Vec<f64>> = cols.iter().map(|c| self.start.cov.whiten(c)).collect();
-                Larger::Columns(Nested::of(&self.cols, &white))
+                Larger::Columns(Nested::of(basis, &white))
             }
-            Alternative::Step => {
-                let n = self.y.len();
-                Larger::Steps(Steps::of(&self.start.cov, &self.cols, 2..n.saturating_sub(2)))
-            }
+            Alternative::Step(tried) => Larger::Steps(Steps::of(&self.start.cov, basis, tried.range())),
         }
     }
 
@@ -302,12 +304,38 @@ impl<'a> LazyNull<'a> {
 pub enum Alternative<'x> {
     /// These columns.
     Columns(&'x [Vec<f64>]),
-    /// A step of the bias at any change point in time the jump's scan tries (all but the
-    /// first two and last two): the ratio at the best, whose law under the null takes the
-    /// scan's choice into account, where a ratio at the chosen step read against the F law
-    /// and corrected by Bonferroni over the change points is near-blind to how a walk,
-    /// itself a sum of steps, makes one.
-    Step,
+    /// A step of the bias at any of these change points in time: the ratio at the best,
+    /// whose law under the null takes the scan's choice into account, where a ratio at the
+    /// chosen step read against the F law and corrected by Bonferroni over the change points
+    /// is near-blind to how a walk, itself a sum of steps, makes one.
+    Step(ChangePoints),
+}
+
+/// The change points a step is tried at: rows `first..end` in time order, the step taking
+/// effect at the row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChangePoints {
+    pub first: usize,
+    pub end: usize,
+}
+
+impl ChangePoints {
+    /// Of `n` rows, all but the first two and the last two: a step there is fitted from at
+    /// least two dwells on either side.
+    pub fn inner(n: usize) -> ChangePoints {
+        ChangePoints {
+            first: 2,
+            end: n.saturating_sub(2).max(2),
+        }
+    }
+
+    pub fn range(&self) -> std::ops::Range<usize> {
+        self.first..self.end
+    }
+
+    pub fn count(&self) -> usize {
+        self.end - self.first
+    }
 }
 
 /// A fitted null hypothesis of the wander test.
@@ -662,14 +690,16 @@ mod tests {
                 r.y.iter_mut().skip(at).for_each(|v| *v += jump);
                 let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
                 let null = test.null(&r.cols, &r.y).unwrap();
-                let scanned = (2..n - 2)
+                let tried = ChangePoints::inner(n);
+                let scanned = tried
+                    .range()
                     .filter_map(|j| {
                         let step: Vec<f64> = (0..n).map(|i| f64::from(u8::from(i >= j))).collect();
                         null.p_value(&[step])
                     })
                     .fold(1.0f64, f64::min);
-                f += usize::from(scanned * ((n - 4) as f64) < level);
-                drawn += usize::from(null.p_drawn(&[Alternative::Step], 400, level)[0].unwrap() < level);
+                f += usize::from(scanned * (tried.count() as f64) < level);
+                drawn += usize::from(null.p_drawn(&[Alternative::Step(tried)], 400, level)[0].unwrap() < level);
             }
             println!("rrw {rrw} jump {jump}: below {level}: F and Bonferroni {f}, drawn {drawn} of 60");
             (f, drawn)
