@@ -31,20 +31,41 @@ impl Basis {
         Basis::beyond(&Basis::default(), cols)
     }
 
+    pub(super) fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// `y` less its projection on the basis, taken off twice over as the basis was built.
+    pub(super) fn residual(&self, y: &[f64]) -> Vec<f64> {
+        let mut e = y.to_vec();
+        for _ in 0..2 {
+            for q in &self.0 {
+                let d = dot(q, &e);
+                e.iter_mut().zip(q).for_each(|(x, y)| *x -= d * y);
+            }
+        }
+        e
+    }
+
+    /// The squared length of `e`'s projection on the basis.
+    pub(super) fn along(&self, e: &[f64]) -> f64 {
+        self.0.iter().map(|q| dot(q, e).powi(2)).sum()
+    }
+
     /// `cols` made orthonormal to `under` and each other by Gram-Schmidt, twice over for its
     /// accuracy; a column dependent on the others adds nothing.
-    fn beyond(under: &Basis, cols: &[Vec<f64>]) -> Basis {
+    pub(super) fn beyond(under: &Basis, cols: &[Vec<f64>]) -> Basis {
         let mut basis = Basis::default();
         for c in cols {
             let mut v = c.clone();
             for _ in 0..2 {
                 for b in under.0.iter().chain(&basis.0) {
-                    let d: f64 = b.iter().zip(&v).map(|(x, y)| x * y).sum();
+                    let d = dot(b, &v);
                     v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
                 }
             }
-            let norm = super::norm2(&v).sqrt();
-            if norm > 1e-9 * super::norm2(c).sqrt() {
+            let norm = dot(&v, &v).sqrt();
+            if norm > 1e-9 * dot(c, c).sqrt() {
                 basis.0.push(v.iter().map(|x| x / norm).collect());
             }
         }
@@ -104,8 +125,7 @@ impl<'v> Steps<'v> {
     pub(super) fn of(cov: &Cov, null: &'v Basis, tried: std::ops::Range<usize>) -> Steps<'v> {
         let (_, whole) = cov.indicator_and_step_norms();
         let mut norms = whole.clone();
-        for q in &null.0 {
-            let back = cov.adjoint(q);
+        for back in cov.adjoint_each(&null.0) {
             let mut along = 0.0;
             for j in (0..norms.len()).rev() {
                 along += back[j];
@@ -144,6 +164,19 @@ impl<'v> Steps<'v> {
         }
         core::array::from_fn(|b| (small[b], (small[b] - most[b]).max(0.0)))
     }
+}
+
+/// `a . b`, summed in four lanes (which the compiler may keep in one register).
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut lanes = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            lanes[k] += x[k] * y[k];
+        }
+    }
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
 }
 
 /// `q . y` for `W` vectors side by side.

@@ -34,6 +34,14 @@ const EXCEEDED: usize = 10;
 /// over 20-30 starts, are then read once for all of them.
 const BLOCK: usize = 16;
 
+/// The first block of draws, smaller: where the recording's ratio is well within the null's
+/// law, a few draws reach it and end the drawing.
+const FIRST_BLOCK: usize = 8;
+
+/// How far below the recording's best log-likelihood a start is still read under in the
+/// draws ([`needed`]).
+const NEAR: f64 = 20.0;
+
 /// Halvings of the search step around the best model, from a quarter decade of B^2 and K^2.
 const REFINE: usize = 4;
 
@@ -157,30 +165,100 @@ impl WanderTest {
     }
 }
 
-/// Twice the log-likelihood gained by each extra (`bases[e]`, per start) for `W` rate
-/// vectors whitened under start `i` by `white(i)`, each side at its best start; extras not
-/// `live` are skipped. Each start's whitening serves every extra.
-fn ratios<const W: usize>(
+/// The log-likelihoods of `W` rate vectors under one start, the null's and the larger
+/// design's; `None` where one failed.
+type AtStart<const W: usize> = [Option<(f64, f64)>; W];
+
+/// Each extra's log-likelihoods under the null and the larger design (`bases[e]`, per start)
+/// for `W` rate vectors whitened under start `i` by `white(i)`, at the starts it `uses`
+/// (elsewhere `None`, as where a likelihood failed). Each start's whitening serves every
+/// extra.
+fn logliks<const W: usize>(
     starts: &[Start],
     bases: &[Vec<Larger>],
     white: impl Fn(usize) -> Vec<[f64; W]>,
-    live: &[bool],
-) -> Vec<[Option<f64>; W]> {
-    let mut best = vec![[Some((f64::MIN, f64::MIN)); W]; bases.len()];
+    uses: &[Vec<bool>],
+) -> Vec<Vec<AtStart<W>>> {
+    let mut out = vec![vec![[None; W]; starts.len()]; bases.len()];
     for (i, start) in starts.iter().enumerate() {
+        if !uses.iter().any(|u| u[i]) {
+            continue;
+        }
         let w = white(i);
-        for (e, best) in best.iter_mut().enumerate().filter(|(e, _)| live[*e]) {
+        for (e, at) in out.iter_mut().enumerate().filter(|(e, _)| uses[*e][i]) {
             for (b, rss) in bases[e][i].rss_block(&start.cov, &w).into_iter().enumerate() {
-                best[b] = best[b]
-                    .zip(start.loglik(rss.0))
-                    .zip(start.loglik(rss.1))
-                    .map(|(((small, large), l0), l1)| (small.max(l0), large.max(l1)));
+                at[i][b] = start.loglik(rss.0).zip(start.loglik(rss.1));
             }
         }
     }
-    best.into_iter()
-        .map(|b| b.map(|b| b.map(|(small, large)| (2.0 * (large - small)).max(0.0))))
+    out
+}
+
+/// Twice the log-likelihood gained, each side at its best of the starts `used`; `None`
+/// where a likelihood failed at one of them.
+fn ratio<const W: usize>(at: &[AtStart<W>], used: &[bool]) -> [Option<f64>; W] {
+    core::array::from_fn(|b| {
+        let mut best = Some((f64::MIN, f64::MIN));
+        for (l, _) in at.iter().zip(used).filter(|(_, u)| **u) {
+            best = best
+                .zip(l[b])
+                .map(|((small, large), (l0, l1))| (small.max(l0), large.max(l1)));
+        }
+        best.map(|(small, large)| (2.0 * (large - small)).max(0.0))
+    })
+}
+
+/// The starts an extra's draws are read under, from its log-likelihoods on the recording:
+/// those within `NEAR` of the best on either side. Draws of the null's best model peak
+/// where the recording does; a start the recording puts e^20 below the best would have to
+/// gain that on a draw.
+fn needed(at: &[AtStart<1>]) -> Vec<bool> {
+    let best = at
+        .iter()
+        .filter_map(|[l]| *l)
+        .fold((f64::MIN, f64::MIN), |(s, g), (l0, l1)| (s.max(l0), g.max(l1)));
+    // A failed likelihood is kept: it ends the draws as before.
+    at.iter()
+        .map(|[l]| l.is_none_or(|(l0, l1)| l0 >= best.0 - NEAR || l1 >= best.1 - NEAR))
         .collect()
+}
+
+/// The draws of the null for [`Null::p_drawn`]: its fitted rates, plus its best noise model's
+/// colouring of unit normals times `sd`, each extra read under the starts it needs.
+struct Draws<'a> {
+    starts: &'a [Start],
+    bases: &'a [Vec<Larger<'a>>],
+    needed: &'a [Vec<bool>],
+    mean: &'a [f64],
+    sd: f64,
+    cov: &'a Cov,
+}
+
+impl Draws<'_> {
+    /// `W` draws side by side, taken by the tallies still drawing. Each draw reads its own
+    /// run of `rng`, so the tallies see the same draws whatever the block.
+    fn block<const W: usize>(&self, rng: &mut nf_model::rng::Rng, tallies: &mut [Tally]) {
+        let mut z = vec![[0.0; W]; self.mean.len()];
+        for b in 0..W {
+            z.iter_mut().for_each(|row| row[b] = rng.gauss());
+        }
+        let noise = self.cov.colour_block(&z);
+        let y: Vec<[f64; W]> = self
+            .mean
+            .iter()
+            .zip(&noise)
+            .map(|(m, e)| e.map(|e| m + self.sd * e))
+            .collect();
+        let uses: Vec<Vec<bool>> = tallies
+            .iter()
+            .zip(self.needed)
+            .map(|(t, n)| n.iter().map(|&u| u && t.drawing()).collect())
+            .collect();
+        let at = logliks(self.starts, self.bases, |i| self.starts[i].cov.whiten_block(&y), &uses);
+        for ((t, at), u) in tallies.iter_mut().zip(&at).zip(&uses) {
+            ratio(at, u).into_iter().for_each(|l| t.take(l));
+        }
+    }
 }
 
 /// One extra's draws so far: how many reached the recording's ratio, and why they stopped.
@@ -239,38 +317,55 @@ struct Visit {
     start: Start,
     cols: Vec<Vec<f64>>,
     y: Vec<f64>,
-    /// The whitened design's orthonormal basis, which every larger design of the draws
-    /// extends.
-    basis: OnceCell<Basis>,
+    /// The null's fit, which every likelihood with more columns extends.
+    fit: OnceCell<NullFit>,
+}
+
+/// The whitened null design's orthonormal basis and the whitened rates' residual off it.
+struct NullFit {
+    basis: Basis,
+    resid: Vec<f64>,
 }
 
 impl Visit {
     fn of(start: Start, cols: &[Vec<f64>], y: &[f64]) -> Visit {
+        let raw: Vec<&[f64]> = cols.iter().map(Vec::as_slice).chain([y]).collect();
+        let mut cols = start.cov.whiten_each(&raw);
+        let y = cols.pop().unwrap_or_default();
         Visit {
-            cols: cols.iter().map(|c| start.cov.whiten(c)).collect(),
-            y: start.cov.whiten(y),
+            cols,
+            y,
             start,
-            basis: OnceCell::new(),
+            fit: OnceCell::new(),
         }
+    }
+
+    fn fit(&self) -> &NullFit {
+        self.fit.get_or_init(|| {
+            let basis = Basis::of(&self.cols);
+            let resid = basis.residual(&self.y);
+            NullFit { basis, resid }
+        })
     }
 
     /// `extra`'s larger design beyond this whitened null.
     fn larger(&self, extra: &Alternative) -> Larger<'_> {
-        let basis = self.basis.get_or_init(|| Basis::of(&self.cols));
+        let basis = &self.fit().basis;
         match extra {
-            Alternative::Columns(cols) => {
-                let white: Vec<Vec<f64>> = cols.iter().map(|c| self.start.cov.whiten(c)).collect();
-                Larger::Columns(Nested::of(basis, &white))
-            }
+            Alternative::Columns(cols) => Larger::Columns(Nested::of(basis, &self.start.cov.whiten_each(cols))),
             Alternative::Step(tried) => Larger::Steps(Steps::of(&self.start.cov, basis, tried.range())),
         }
     }
 
-    /// The log-likelihood with `extra`, not yet whitened, added to the columns.
+    /// The log-likelihood with `extra`, not yet whitened, added to the columns; `None` where
+    /// a column depends on the others.
     fn loglik(&self, extra: &[Vec<f64>]) -> Option<f64> {
-        let mut cols = self.cols.clone();
-        cols.extend(extra.iter().map(|c| self.start.cov.whiten(c)));
-        self.start.loglik(linfit::fit(&cols, &self.y)?.rss)
+        let fit = self.fit();
+        let more = Basis::beyond(&fit.basis, &self.start.cov.whiten_each(extra));
+        if fit.basis.len() < self.cols.len() || more.len() < extra.len() {
+            return None;
+        }
+        self.start.loglik((norm2(&fit.resid) - more.along(&fit.resid)).max(0.0))
     }
 }
 
@@ -392,37 +487,37 @@ impl Null<'_> {
             .iter()
             .map(|extra| self.at_starts.iter().map(|v| v.larger(extra)).collect())
             .collect();
-        let observed: Vec<[Option<f64>; 1]> = ratios(
+        let every = vec![vec![true; starts.len()]; extras.len()];
+        let on_recording = logliks(
             starts,
             &bases,
             |i| self.at_starts[i].y.iter().map(|&v| [v]).collect(),
-            &vec![true; extras.len()],
+            &every,
         );
+        let observed: Vec<Option<f64>> = on_recording.iter().map(|at| ratio(at, &every[0])[0]).collect();
+        let needed: Vec<Vec<bool>> = on_recording.iter().map(|at| needed(at)).collect();
         let Some((mean, level)) = self.fitted() else {
             return none;
         };
-        let mut tallies: Vec<Tally> = observed.iter().map(|[o]| Tally::new(*o, most, limit)).collect();
+        let mut tallies: Vec<Tally> = observed.iter().map(|o| Tally::new(*o, most, limit)).collect();
         let seed = self
             .y
             .iter()
             .fold(self.y.len() as u64, |h, v| h.rotate_left(7) ^ v.to_bits());
         let mut rng = nf_model::rng::Rng::new(seed);
+        let draws = Draws {
+            starts,
+            bases: &bases,
+            needed: &needed,
+            mean: &mean,
+            sd: level.sqrt(),
+            cov: &self.best.start.cov,
+        };
+        if tallies.iter().any(Tally::drawing) {
+            draws.block::<FIRST_BLOCK>(&mut rng, &mut tallies);
+        }
         while tallies.iter().any(Tally::drawing) {
-            let mut z = vec![[0.0; BLOCK]; mean.len()];
-            for b in 0..BLOCK {
-                z.iter_mut().for_each(|row| row[b] = rng.gauss());
-            }
-            let noise = self.best.start.cov.colour_block(&z);
-            let y: Vec<[f64; BLOCK]> = mean
-                .iter()
-                .zip(&noise)
-                .map(|(m, e)| e.map(|e| m + level.sqrt() * e))
-                .collect();
-            let live: Vec<bool> = tallies.iter().map(Tally::drawing).collect();
-            let drawn: Vec<[Option<f64>; BLOCK]> = ratios(starts, &bases, |i| starts[i].cov.whiten_block(&y), &live);
-            for (t, r) in tallies.iter_mut().zip(drawn) {
-                r.into_iter().for_each(|l| t.take(l));
-            }
+            draws.block::<BLOCK>(&mut rng, &mut tallies);
         }
         tallies.iter().map(Tally::p).collect()
     }
@@ -534,7 +629,7 @@ fn same(a: &NoiseModel, b: &NoiseModel) -> bool {
 }
 
 fn norm2(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum()
+    larger::dot(v, v)
 }
 
 #[cfg(test)]
