@@ -7,6 +7,9 @@
 //! and a rate random walk of 0.0005 deg/h per position; written in the recording format and
 //! read back by its reader, as `nf diagnose` reads a file.
 //!
+//! `cargo run --release --example diagnose_bench -- file REC...`: the same times for recordings
+//! on disk, with their replicates skipped (as `nf diagnose --replicates 0`).
+//!
 //! `cargo run --release --example diagnose_bench -- honesty N RUNS`: the RMS of final
 //! error/sigma over RUNS recordings of N positions with white noise only, with the walk, and
 //! with five Gauss-Markov terms of 0.01 deg/h, one per decade of time from 10 s to 10^5 s
@@ -88,12 +91,39 @@ fn honesty(n: usize, runs: u64) {
     }
 }
 
+fn files(paths: &[String]) {
+    println!("recording   seconds   noise estimate   selection (steps)   per step");
+    for path in paths {
+        let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let rec = Recording::parse(&text).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let opt = Options {
+            replicates: 0,
+            ..Options::default()
+        };
+        let start = Instant::now();
+        let d = diagnose(&rec, &opt).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let secs = start.elapsed().as_secs_f64();
+        let t = d.timing;
+        println!(
+            "{path} {secs:>9.2} {:>14.1}ms {:>13.1}ms ({}) {:>9.1}ms",
+            t.noise_s * 1e3,
+            t.selection_s * 1e3,
+            t.selection_steps,
+            t.selection_s * 1e3 / t.selection_steps.max(1) as f64
+        );
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.first().map(String::as_str) == Some("honesty") {
         let n = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(5000);
         let runs = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(20);
         honesty(n, runs);
+        return;
+    }
+    if args.first().map(String::as_str) == Some("file") {
+        files(&args[1..]);
         return;
     }
     let sizes: Vec<usize> = args.iter().filter_map(|s| s.parse().ok()).collect();
