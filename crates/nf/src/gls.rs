@@ -343,6 +343,28 @@ mod tests {
     use nf_model::rng::Rng;
 
     #[test]
+    fn vectors_whitened_four_side_by_side_are_whitened_one_at_a_time() {
+        let mut rng = Rng::new(9);
+        let t: Vec<f64> = (0..30).map(|i| 1.4 * i as f64 + rng.uniform(0.0, 0.3)).collect();
+        let model = NoiseModel {
+            bias_instability_dph: 0.01,
+            rrw_dph_rth: 0.03,
+            ..NoiseModel::white(0.01, 1.0)
+        };
+        let dense = Cov::new(&window_covariance(&model, &t, &vec![1.0; t.len()]), t.len()).unwrap();
+        let windows = Cov::of_windows(&model, &t, &vec![1.0; t.len()]).unwrap();
+        for cov in [dense, windows] {
+            for count in [1, 5, 6, 7, 8] {
+                let vs: Vec<Vec<f64>> = (0..count).map(|_| t.iter().map(|_| rng.gauss()).collect()).collect();
+                let one: Vec<Vec<f64>> = vs.iter().map(|v| cov.whiten(v)).collect();
+                assert_eq!(cov.whiten_each(&vs), one, "{count} whitened");
+                let one: Vec<Vec<f64>> = vs.iter().map(|v| cov.adjoint(v)).collect();
+                assert_eq!(cov.adjoint_each(&vs), one, "{count} adjoined");
+            }
+        }
+    }
+
+    #[test]
     fn equals_ordinary_least_squares_on_white_noise() {
         let mut rng = Rng::new(4);
         let n = 40;

@@ -13,6 +13,7 @@
 //! defined up to a constant (`crate::gls`), which the constant's contrasts do not see, and
 //! every design holds the constant, so the likelihoods of two designs compare.
 
+mod draws;
 mod larger;
 
 use crate::gls::{Cov, WindowSet};
@@ -20,27 +21,12 @@ use crate::linfit;
 use crate::quarter_contrasts::{Part, QuarterContrasts};
 use crate::sample_spread::{SampleSpread, Spread};
 use crate::stats::f_sf;
+use draws::Draws;
 use larger::{Basis, Larger, Nested, Steps};
 use nf_model::noise::NoiseModel;
 use std::cell::OnceCell;
 use std::rc::Rc;
 use std::sync::Arc;
-
-/// Draws of the null that reach the recording's likelihood ratio before the drawn p-value
-/// stops: it is then near 10 / draws, too large to matter.
-const EXCEEDED: usize = 10;
-
-/// Draws of the null made side by side: each factor's generators, too large for the cache
-/// over 20-30 starts, are then read once for all of them.
-const BLOCK: usize = 16;
-
-/// The first block of draws, smaller: where the recording's ratio is well within the null's
-/// law, a few draws reach it and end the drawing.
-const FIRST_BLOCK: usize = 8;
-
-/// How far below the recording's best log-likelihood a start is still read under in the
-/// draws ([`needed`]).
-const NEAR: f64 = 20.0;
 
 /// Halvings of the search step around the best model, from a quarter decade of B^2 and K^2.
 const REFINE: usize = 4;
@@ -162,152 +148,6 @@ impl WanderTest {
     /// the spread's.
     fn count(&self) -> usize {
         self.windows.count() - 1 + self.quarters.count() + self.spread.count()
-    }
-}
-
-/// The log-likelihoods of `W` rate vectors under one start, the null's and the larger
-/// design's; `None` where one failed.
-type AtStart<const W: usize> = [Option<(f64, f64)>; W];
-
-/// Each extra's log-likelihoods under the null and the larger design (`bases[e]`, per start)
-/// for `W` rate vectors whitened under start `i` by `white(i)`, at the starts it `uses`
-/// (elsewhere `None`, as where a likelihood failed). Each start's whitening serves every
-/// extra.
-fn logliks<const W: usize>(
-    starts: &[Start],
-    bases: &[Vec<Larger>],
-    white: impl Fn(usize) -> Vec<[f64; W]>,
-    uses: &[Vec<bool>],
-) -> Vec<Vec<AtStart<W>>> {
-    let mut out = vec![vec![[None; W]; starts.len()]; bases.len()];
-    for (i, start) in starts.iter().enumerate() {
-        if !uses.iter().any(|u| u[i]) {
-            continue;
-        }
-        let w = white(i);
-        for (e, at) in out.iter_mut().enumerate().filter(|(e, _)| uses[*e][i]) {
-            for (b, rss) in bases[e][i].rss_block(&start.cov, &w).into_iter().enumerate() {
-                at[i][b] = start.loglik(rss.0).zip(start.loglik(rss.1));
-            }
-        }
-    }
-    out
-}
-
-/// Twice the log-likelihood gained, each side at its best of the starts `used`; `None`
-/// where a likelihood failed at one of them.
-fn ratio<const W: usize>(at: &[AtStart<W>], used: &[bool]) -> [Option<f64>; W] {
-    core::array::from_fn(|b| {
-        let mut best = Some((f64::MIN, f64::MIN));
-        for (l, _) in at.iter().zip(used).filter(|(_, u)| **u) {
-            best = best
-                .zip(l[b])
-                .map(|((small, large), (l0, l1))| (small.max(l0), large.max(l1)));
-        }
-        best.map(|(small, large)| (2.0 * (large - small)).max(0.0))
-    })
-}
-
-/// The starts an extra's draws are read under, from its log-likelihoods on the recording:
-/// those within `NEAR` of the best on either side. Draws of the null's best model peak
-/// where the recording does; a start the recording puts e^20 below the best would have to
-/// gain that on a draw.
-fn needed(at: &[AtStart<1>]) -> Vec<bool> {
-    let best = at
-        .iter()
-        .filter_map(|[l]| *l)
-        .fold((f64::MIN, f64::MIN), |(s, g), (l0, l1)| (s.max(l0), g.max(l1)));
-    // A failed likelihood is kept: it ends the draws as before.
-    at.iter()
-        .map(|[l]| l.is_none_or(|(l0, l1)| l0 >= best.0 - NEAR || l1 >= best.1 - NEAR))
-        .collect()
-}
-
-/// The draws of the null for [`Null::p_drawn`]: its fitted rates, plus its best noise model's
-/// colouring of unit normals times `sd`, each extra read under the starts it needs.
-struct Draws<'a> {
-    starts: &'a [Start],
-    bases: &'a [Vec<Larger<'a>>],
-    needed: &'a [Vec<bool>],
-    mean: &'a [f64],
-    sd: f64,
-    cov: &'a Cov,
-}
-
-impl Draws<'_> {
-    /// `W` draws side by side, taken by the tallies still drawing. Each draw reads its own
-    /// run of `rng`, so the tallies see the same draws whatever the block.
-    fn block<const W: usize>(&self, rng: &mut nf_model::rng::Rng, tallies: &mut [Tally]) {
-        let mut z = vec![[0.0; W]; self.mean.len()];
-        for b in 0..W {
-            z.iter_mut().for_each(|row| row[b] = rng.gauss());
-        }
-        let noise = self.cov.colour_block(&z);
-        let y: Vec<[f64; W]> = self
-            .mean
-            .iter()
-            .zip(&noise)
-            .map(|(m, e)| e.map(|e| m + self.sd * e))
-            .collect();
-        let uses: Vec<Vec<bool>> = tallies
-            .iter()
-            .zip(self.needed)
-            .map(|(t, n)| n.iter().map(|&u| u && t.drawing()).collect())
-            .collect();
-        let at = logliks(self.starts, self.bases, |i| self.starts[i].cov.whiten_block(&y), &uses);
-        for ((t, at), u) in tallies.iter_mut().zip(&at).zip(&uses) {
-            ratio(at, u).into_iter().for_each(|l| t.take(l));
-        }
-    }
-}
-
-/// One extra's draws so far: how many reached the recording's ratio, and why they stopped.
-struct Tally {
-    /// The recording's ratio; `None` where a likelihood failed, which ends the draws.
-    observed: Option<f64>,
-    drawn: usize,
-    reached: usize,
-    most: usize,
-    limit: f64,
-}
-
-impl Tally {
-    fn new(observed: Option<f64>, most: usize, limit: f64) -> Tally {
-        Tally {
-            observed,
-            drawn: 0,
-            reached: 0,
-            most,
-            limit,
-        }
-    }
-
-    /// Until `EXCEEDED` have reached the ratio, the p-value can no longer fall under the
-    /// limit, or at `most`.
-    fn drawing(&self) -> bool {
-        self.observed.is_some()
-            && self.drawn < self.most
-            && self.reached < EXCEEDED
-            && ((1 + self.reached) as f64) < self.limit * (1 + self.most) as f64
-    }
-
-    /// The next draw's ratio, taken while drawing.
-    fn take(&mut self, ratio: Option<f64>) {
-        if !self.drawing() {
-            return;
-        }
-        match (ratio, self.observed) {
-            (Some(l), Some(o)) => {
-                self.drawn += 1;
-                self.reached += usize::from(l >= o);
-            }
-            _ => self.observed = None,
-        }
-    }
-
-    fn p(&self) -> Option<f64> {
-        self.observed
-            .map(|_| (1 + self.reached) as f64 / (1 + self.drawn) as f64)
     }
 }
 
@@ -474,52 +314,38 @@ impl Null<'_> {
     /// was below 0.01 in 19 of 60 runs of 36 dwells, the drawn one in 1. The ratio here is
     /// each side's best over the starts (not refined), the recording's as the draws'; each
     /// start's designs are factored once. One p-value per extra, all from the same draws,
-    /// each stopped once `EXCEEDED` have reached it, once the p-value can no longer fall
+    /// each stopped once `draws::EXCEEDED` have reached it, once the p-value can no longer fall
     /// under `limit`, or at `most`. `None` where the test does not draw.
     pub fn p_drawn(&self, extras: &[Alternative], most: usize, limit: f64) -> Vec<Option<f64>> {
         let none = vec![None; extras.len()];
         if !self.test.draws {
             return none;
         }
-        let starts = &self.test.starts;
+        let Some((mean, level)) = self.fitted() else {
+            return none;
+        };
         // Per extra, per start.
         let bases: Vec<Vec<Larger>> = extras
             .iter()
             .map(|extra| self.at_starts.iter().map(|v| v.larger(extra)).collect())
             .collect();
-        let every = vec![vec![true; starts.len()]; extras.len()];
-        let on_recording = logliks(
-            starts,
-            &bases,
-            |i| self.at_starts[i].y.iter().map(|&v| [v]).collect(),
-            &every,
-        );
-        let observed: Vec<Option<f64>> = on_recording.iter().map(|at| ratio(at, &every[0])[0]).collect();
-        let needed: Vec<Vec<bool>> = on_recording.iter().map(|at| needed(at)).collect();
-        let Some((mean, level)) = self.fitted() else {
-            return none;
-        };
-        let mut tallies: Vec<Tally> = observed.iter().map(|o| Tally::new(*o, most, limit)).collect();
         let seed = self
             .y
             .iter()
             .fold(self.y.len() as u64, |h, v| h.rotate_left(7) ^ v.to_bits());
-        let mut rng = nf_model::rng::Rng::new(seed);
-        let draws = Draws {
-            starts,
+        Draws {
+            starts: &self.test.starts,
             bases: &bases,
-            needed: &needed,
             mean: &mean,
             sd: level.sqrt(),
             cov: &self.best.start.cov,
-        };
-        if tallies.iter().any(Tally::drawing) {
-            draws.block::<FIRST_BLOCK>(&mut rng, &mut tallies);
         }
-        while tallies.iter().any(Tally::drawing) {
-            draws.block::<BLOCK>(&mut rng, &mut tallies);
-        }
-        tallies.iter().map(Tally::p).collect()
+        .p_values(
+            |i| self.at_starts[i].y.iter().map(|&v| [v]).collect(),
+            seed,
+            most,
+            limit,
+        )
     }
 
     /// The null's fitted rates and white level, which every draw adds noise of its best
@@ -732,6 +558,24 @@ mod tests {
             .unwrap()
             .p_value(std::slice::from_ref(&r.t))
             .unwrap()
+    }
+
+    #[test]
+    fn a_likelihood_with_more_columns_is_the_whole_designs_fitted_afresh() {
+        let r = run(40, 0.5, 4e-4, 3);
+        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
+        let curve = vec![r.t.clone(), r.t.iter().map(|v| v * v).collect()];
+        for start in &test.starts {
+            let white: Vec<Vec<f64>> = r.cols.iter().chain(&curve).map(|c| start.cov.whiten(c)).collect();
+            let whole = start
+                .loglik(linfit::fit(&white, &start.cov.whiten(&r.y)).unwrap().rss)
+                .unwrap();
+            let ours = Visit::of(start.clone(), &r.cols, &r.y).loglik(&curve).unwrap();
+            assert!((ours - whole).abs() < 1e-9 * whole.abs(), "{ours} against {whole}");
+        }
+        // A column the design holds already adds nothing: no likelihood, as no fit.
+        let v = Visit::of(test.starts[0].clone(), &r.cols, &r.y);
+        assert_eq!(v.loglik(&[r.cols[0].iter().map(|x| 2.0 * x).collect()]), None);
     }
 
     #[test]
