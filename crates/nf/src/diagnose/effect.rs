@@ -231,11 +231,11 @@ pub enum Law {
     /// shapes a walk takes most often.
     Drawn,
     /// The jump scanned over change points `tried`: as `F { scan }` with the scan their
-    /// count, and where the noise is estimated from the run also the
-    /// best step's ratio against the best step's in draws of the null. A walk is a sum of
-    /// steps, which the F law under-reads; and where the null lacks another effect (a
-    /// drift's curve) the draws, which know nothing of it, over-read the step that takes
-    /// its place, which the scan's Bonferroni correction guards.
+    /// count, and where the noise is estimated from the run also the best step's ratio
+    /// against the best step's in draws of the null. A walk is a sum of steps, which the F
+    /// law under-reads; and where the null lacks another effect (a drift's curve) the
+    /// draws, which know nothing of it, over-read the step that takes its place, which the
+    /// scan's Bonferroni correction guards.
     DrawnStep { tried: ChangePoints },
 }
 

@@ -269,7 +269,7 @@ impl ChangePoints {
     }
 
     pub fn count(&self) -> usize {
-        self.end - self.first
+        self.range().len()
     }
 }
 
