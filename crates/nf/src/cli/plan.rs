@@ -6,17 +6,17 @@ use crate::plan_noise::{self, Candidate, Space};
 use crate::plot::{Panel, Series, Style};
 use crate::range::{MAX_LATITUDE_DEG, above, real};
 use crate::schedule::{Schedule, Timing};
-use crate::textfile::short;
 use crate::twin_check::{self, RunSpec, TwinCheck};
 use crate::{plan, plot};
 use json::{AllowanceJson, CandidateJson, MonteCarloJson, NoiseBudgetJson, PlanJson, TwinCheckJson};
 use nf_instrument::stepper;
 use nf_model::noise::NoiseModel;
 use nf_model::order::Order;
-use nf_model::uncertainty::{Budget, allocate, tilt_arcsec};
+use nf_model::uncertainty::{Budget, Sigmas, allocate};
 use std::io::Write;
 
 mod json;
+mod text;
 
 #[derive(clap::Args)]
 pub struct PlanArgs {
@@ -130,262 +130,225 @@ fn unreachable(p: &plan_noise::Plan, max_time_s: f64) -> String {
 }
 
 pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
-    let model = a.noise.apply(NoiseModel::white(a.gyro_noise, a.ref_dwell))?;
-    let timing = Timing {
-        motor: stepper::Config {
-            steps_per_rev: a.steps_per_rev,
-            max_sps: a.max_sps as f32,
-            accel_sps2: a.accel as f32,
-            ..Default::default()
-        },
-        settle_s: a.settle,
-        dwell_s: a.dwell,
-        ..Timing::default()
-    };
-    let order = Order::parse(&a.order)
-        .and_then(|o| o.check(a.n as u16).map(|()| o))
-        .map_err(|e| Fail(format!("--order: {e}"), 2))?;
-    even_visits(&order, a.n as u16)?;
-    let n = a.n as usize;
-    // Levelling: two half turns, settling and an inclinometer reading at each.
-    let levelling_s = 2.0 * (timing.move_s(a.steps_per_rev / 2) + a.settle + timing.per_position_s);
-    let schedule = Schedule::new(&order, n, n / 2, &timing);
-    let time_s = levelling_s + schedule.duration_s;
-    let budget = plan_noise::Budget {
-        latitude_deg: a.lat,
-        encoder_deg: a.encoder,
-        tilt_deg: a.tilt,
-    };
-    // The white-noise budgets are per position: forward-back dwells twice at each.
-    let visits_per_position = order.visits(a.n as u16) as f64 / a.n as f64;
-    let noise_gyro = plan_noise::gyro_arcsec(&model, &schedule, a.lat);
-    let noise_total = plan_noise::total_arcsec(&model, &schedule, &budget);
-    let inp = plan::Inputs {
-        latitude_deg: a.lat,
-        gyro_dph: model.white_mean_sd_dph(a.ref_dwell),
-        ref_dwell_s: a.ref_dwell,
-        encoder_deg: a.encoder,
-        tilt_deg: a.tilt,
-        n: a.n,
-        dwell_s: a.dwell * visits_per_position,
-        gyro_elev_deg: 0.01,
-    };
-    let s = inp.sigmas(inp.dwell_s);
-    let paper_b = Budget::paper(a.n, &s, a.lat, 45.0, inp.gyro_elev_deg);
-    let exact_b = Budget::closed_form(a.n, &s, a.lat);
-    let num_b = plan::numerical(&inp);
-    let search = a.target.map(|t| {
-        let bar = indicatif::ProgressBar::new_spinner();
-        bar.set_message("searching orders, n and dwells");
-        let space = Space {
-            max_time_s: a.max_time,
-            ..Space::default()
+    let p = Planned::new(&a)?;
+    if let Some(path) = &a.plot {
+        plot::write(path, &[p.panel(&a)])?;
+    }
+    let mut out = std::io::stdout().lock();
+    if a.json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&p.json(&a)).unwrap_or_default())?;
+    } else {
+        text::write(&mut out, &a, &p)?;
+    }
+    Ok(())
+}
+
+/// The planned run's budgets, and what was asked beside them: the search for a target, the
+/// twin's check, the Monte Carlo.
+struct Planned {
+    model: NoiseModel,
+    timing: Timing,
+    order: Order,
+    /// The planned run's time to north, levelling and moves included, s.
+    time_s: f64,
+    budget: plan_noise::Budget,
+    /// Visits of each position (forward-back dwells twice at each).
+    visits_per_position: f64,
+    /// The gyro's term and the total under the noise model (GLS), arcsec.
+    noise_gyro: Option<f64>,
+    noise_total: Option<f64>,
+    inp: plan::Inputs,
+    sigmas: Sigmas<f64>,
+    paper: Budget<f64>,
+    exact: Budget<f64>,
+    numerical: Budget<f64>,
+    search: Option<plan_noise::Plan>,
+    twin: Option<(Candidate, f64, TwinCheck)>,
+    allowance: Option<Sigmas<f64>>,
+    paper_n: Option<u32>,
+    /// The Monte Carlo's sd and the formula's, arcsec.
+    mc: Option<(f64, f64)>,
+}
+
+impl Planned {
+    fn new(a: &PlanArgs) -> Result<Planned, Fail> {
+        let model = a.noise.apply(NoiseModel::white(a.gyro_noise, a.ref_dwell))?;
+        let timing = Timing {
+            motor: stepper::Config {
+                steps_per_rev: a.steps_per_rev,
+                max_sps: a.max_sps as f32,
+                accel_sps2: a.accel as f32,
+                ..Default::default()
+            },
+            settle_s: a.settle,
+            dwell_s: a.dwell,
+            ..Timing::default()
         };
-        let p = plan_noise::search(
-            &model,
-            &budget,
-            &timing,
-            &plan_noise::named_orders(),
-            &space,
-            t,
-            levelling_s,
-        );
-        bar.finish_and_clear();
-        p
-    });
-    let twin = twin_check(&a, &model, &timing, search.as_ref().and_then(|p| p.fastest.as_ref()))?;
-    let allowance = a.target.map(|t| allocate(t, a.n, a.lat));
-    let paper_n = a.target.and_then(|t| plan::paper_n(&inp, t));
-    let mc = (a.mc_runs > 0).then(|| {
-        let bar = indicatif::ProgressBar::new(a.mc_runs as u64);
-        bar.set_message("Monte Carlo");
-        let r = plan::monte_carlo(&inp, a.mc_runs, a.seed, || bar.inc(1));
-        bar.finish_and_clear();
-        r
-    });
-    if let Some(p) = &a.plot {
+        let order = Order::parse(&a.order)
+            .and_then(|o| o.check(a.n as u16).map(|()| o))
+            .map_err(|e| Fail(format!("--order: {e}"), 2))?;
+        even_visits(&order, a.n as u16)?;
+        let n = a.n as usize;
+        // Levelling: two half turns, settling and an inclinometer reading at each.
+        let levelling_s = 2.0 * (timing.move_s(a.steps_per_rev / 2) + a.settle + timing.per_position_s);
+        let schedule = Schedule::new(&order, n, n / 2, &timing);
+        let budget = plan_noise::Budget {
+            latitude_deg: a.lat,
+            encoder_deg: a.encoder,
+            tilt_deg: a.tilt,
+        };
+        // The white-noise budgets are per position: forward-back dwells twice at each.
+        let visits_per_position = order.visits(a.n as u16) as f64 / a.n as f64;
+        let inp = plan::Inputs {
+            latitude_deg: a.lat,
+            gyro_dph: model.white_mean_sd_dph(a.ref_dwell),
+            ref_dwell_s: a.ref_dwell,
+            encoder_deg: a.encoder,
+            tilt_deg: a.tilt,
+            n: a.n,
+            dwell_s: a.dwell * visits_per_position,
+            gyro_elev_deg: 0.01,
+        };
+        let sigmas = inp.sigmas(inp.dwell_s);
+        let search = a.target.map(|t| search(a, &model, &budget, &timing, t, levelling_s));
+        let twin = twin_check(a, &model, &timing, search.as_ref().and_then(|p| p.fastest.as_ref()))?;
+        Ok(Planned {
+            time_s: levelling_s + schedule.duration_s,
+            noise_gyro: plan_noise::gyro_arcsec(&model, &schedule, a.lat),
+            noise_total: plan_noise::total_arcsec(&model, &schedule, &budget),
+            paper: Budget::paper(a.n, &sigmas, a.lat, 45.0, inp.gyro_elev_deg),
+            exact: Budget::closed_form(a.n, &sigmas, a.lat),
+            numerical: plan::numerical(&inp),
+            allowance: a.target.map(|t| allocate(t, a.n, a.lat)),
+            paper_n: a.target.and_then(|t| plan::paper_n(&inp, t)),
+            mc: monte_carlo(a, &inp),
+            model,
+            timing,
+            order,
+            budget,
+            visits_per_position,
+            inp,
+            sigmas,
+            search,
+            twin,
+        })
+    }
+
+    /// The uncertainty against n: the paper's, the exact white-noise one and the noise
+    /// model's in the planned order.
+    fn panel(&self, a: &PlanArgs) -> Panel {
         let ns: Vec<u32> = (2..=72).map(|k| k * 5).collect();
         let curve = |f: &dyn Fn(u32) -> f64| ns.iter().map(|&n| (n as f64, f(n))).collect::<Vec<_>>();
         let under_noise = ns
             .iter()
             // A listed order is a run of its own n only.
-            .filter(|&&m| !matches!(order, Order::List(_)) || m == a.n)
+            .filter(|&&m| !matches!(self.order, Order::List(_)) || m == a.n)
             .filter_map(|&m| {
-                order.check(m as u16).ok()?;
-                let sc = Schedule::new(&order, m as usize, m as usize / 2, &timing);
-                Some((m as f64, plan_noise::total_arcsec(&model, &sc, &budget)?))
+                self.order.check(m as u16).ok()?;
+                let sc = Schedule::new(&self.order, m as usize, m as usize / 2, &self.timing);
+                Some((m as f64, plan_noise::total_arcsec(&self.model, &sc, &self.budget)?))
             })
             .collect();
-        let panel = Panel {
+        let s = &self.sigmas;
+        Panel {
             title: format!("azimuth uncertainty, lat {} deg, dwell {} s", a.lat, a.dwell),
             x_label: "positions n".into(),
             y_label: "sigma psi (arcsec)".into(),
             series: vec![
                 Series {
                     name: "Eq. 31 (paper)".into(),
-                    points: curve(&|n| Budget::paper(n, &s, a.lat, 45.0, 0.01).total_arcsec),
+                    points: curve(&|n| Budget::paper(n, s, a.lat, 45.0, 0.01).total_arcsec),
                     style: Style::Line,
                 },
                 Series {
                     name: "exact model, white noise".into(),
-                    points: curve(&|n| Budget::closed_form(n, &s, a.lat).total_arcsec),
+                    points: curve(&|n| Budget::closed_form(n, s, a.lat).total_arcsec),
                     style: Style::Line,
                 },
                 Series {
-                    name: format!("noise model, {} order (GLS)", order.name()),
+                    name: format!("noise model, {} order (GLS)", self.order.name()),
                     points: under_noise,
                     style: Style::Line,
                 },
             ],
             log_x: false,
             log_y: false,
-        };
-        plot::write(p, &[panel])?;
+        }
     }
-    let mut out = std::io::stdout().lock();
-    if a.json {
-        let j = PlanJson {
-            allowance_for_target: allowance.map(AllowanceJson::from),
-            budget_eq31_paper: (&paper_b).into(),
-            budget_exact: (&exact_b).into(),
+
+    fn json(&self, a: &PlanArgs) -> PlanJson {
+        let search = self.search.as_ref();
+        PlanJson {
+            allowance_for_target: self.allowance.map(AllowanceJson::from),
+            budget_eq31_paper: (&self.paper).into(),
+            budget_exact: (&self.exact).into(),
             budget_noise_model: NoiseBudgetJson {
-                gyro_arcsec: noise_gyro,
-                total_arcsec: noise_total,
+                gyro_arcsec: self.noise_gyro,
+                total_arcsec: self.noise_total,
             },
-            budget_numerical: (&num_b).into(),
+            budget_numerical: (&self.numerical).into(),
             dwell_s: a.dwell,
-            fastest: search
-                .as_ref()
-                .and_then(|p| p.fastest.as_ref())
-                .map(CandidateJson::from),
-            fastest_per_order: search
-                .as_ref()
-                .map(|p| p.per_order.iter().map(CandidateJson::from).collect()),
-            floor: search.as_ref().and_then(|p| p.floor.as_ref()).map(CandidateJson::from),
-            floor_per_order_short_of_target: search
-                .as_ref()
-                .map(|p| p.short_of.iter().map(CandidateJson::from).collect()),
-            gyro_dph_per_position: s.gyro_dph,
-            monte_carlo: mc.map(|(sd_arcsec, formula_arcsec)| MonteCarloJson {
+            fastest: search.and_then(|p| p.fastest.as_ref()).map(CandidateJson::from),
+            fastest_per_order: search.map(|p| p.per_order.iter().map(CandidateJson::from).collect()),
+            floor: search.and_then(|p| p.floor.as_ref()).map(CandidateJson::from),
+            floor_per_order_short_of_target: search.map(|p| p.short_of.iter().map(CandidateJson::from).collect()),
+            gyro_dph_per_position: self.sigmas.gyro_dph,
+            monte_carlo: self.mc.map(|(sd_arcsec, formula_arcsec)| MonteCarloJson {
                 formula_arcsec,
                 runs: a.mc_runs,
                 sd_arcsec,
             }),
             n: a.n,
-            noise_model: (&model).into(),
-            order: order.name(),
-            paper_n_for_target: paper_n,
+            noise_model: (&self.model).into(),
+            order: self.order.name(),
+            paper_n_for_target: self.paper_n,
             target_arcsec: a.target,
-            time_s,
-            twin_check: twin.as_ref().map(|(c, stated, k)| TwinCheckJson::new(c, *stated, k)),
-        };
-        writeln!(out, "{}", serde_json::to_string_pretty(&j).unwrap_or_default())?;
-        return Ok(());
+            time_s: self.time_s,
+            twin_check: self
+                .twin
+                .as_ref()
+                .map(|(c, stated, k)| TwinCheckJson::new(c, *stated, k)),
+        }
     }
-    let visits = if visits_per_position == 1.0 {
-        String::new()
-    } else {
-        format!(
-            ", {} visits and {} s of dwell per position",
-            short(visits_per_position),
-            short(inp.dwell_s)
-        )
+}
+
+/// The fastest run reaching `target` arcsec, with a spinner while it is searched.
+fn search(
+    a: &PlanArgs,
+    model: &NoiseModel,
+    budget: &plan_noise::Budget,
+    timing: &Timing,
+    target: f64,
+    levelling_s: f64,
+) -> plan_noise::Plan {
+    let bar = indicatif::ProgressBar::new_spinner();
+    bar.set_message("searching orders, n and dwells");
+    let space = Space {
+        max_time_s: a.max_time,
+        ..Space::default()
     };
-    writeln!(
-        out,
-        "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position{visits}), {:.0} s to north with levelling and moves",
-        a.n,
-        a.dwell,
-        order.name(),
-        s.gyro_dph,
-        time_s
-    )?;
-    writeln!(
-        out,
-        "{:<22} {:>9} {:>9} {:>9} {:>9}",
-        "budget (arcsec)", "gyro", "encoder", "tilt", "total"
-    )?;
-    for (name, b) in [
-        ("Eq. 31 (paper)", paper_b),
-        ("exact, white noise", exact_b),
-        ("exact, numerical", num_b),
-    ] {
-        writeln!(
-            out,
-            "{name:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
-            b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec, b.total_arcsec
-        )?;
-    }
-    if let (Some(g), Some(t)) = (noise_gyro, noise_total) {
-        writeln!(
-            out,
-            "{:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
-            "noise model (GLS)", g, exact_b.encoder_arcsec, exact_b.tilt_arcsec, t
-        )?;
-    }
-    if let (Some(t), Some(p)) = (a.target, &search) {
-        match &p.fastest {
-            Some(c) => writeln!(out, "target {t}\": fastest run under the noise model: {}", describe(c))?,
-            None if tilt_arcsec(a.tilt, a.lat) >= t => writeln!(
-                out,
-                "target {t}\": not reachable: the levelling residue alone (tilt {} deg) gives {:.2}\"",
-                a.tilt,
-                tilt_arcsec(a.tilt, a.lat)
-            )?,
-            None => writeln!(
-                out,
-                "target {t}\": not reachable with this gyro and motor {}",
-                unreachable(p, a.max_time)
-            )?,
-        }
-        for c in &p.per_order {
-            writeln!(out, "  fastest {}", describe(c))?;
-        }
-        if p.fastest.is_some() {
-            for c in &p.short_of {
-                writeln!(out, "  never reaches it: {} (its best)", describe(c))?;
-            }
-        }
-        if let Some(s) = allowance {
-            writeln!(
-                out,
-                "target {t}\" at n = {}: allowances of a third of the variance each (the gyro's as white noise of a position's mean): gyro {:.5} deg/h per position, encoder {:.5} deg, levelling {:.5} deg",
-                a.n, s.gyro_dph, s.encoder_deg, s.tilt_deg
-            )?;
-        }
-        match paper_n {
-            Some(n) => writeln!(
-                out,
-                "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s of dwell per position",
-                short(inp.dwell_s)
-            )?,
-            None => writeln!(
-                out,
-                "target {t}\": the paper's Eq. 31 (white noise, {} s of dwell per position) reaches it with no n",
-                short(inp.dwell_s)
-            )?,
-        }
-    }
-    if let Some((c, stated, k)) = &twin {
-        writeln!(
-            out,
-            "twin check, {} runs of the {}: RMS error {:.2}\" against the stated gyro term {stated:.2}\" ({:+.1}%), RMS error/sigma {:.2}",
-            k.runs,
-            describe(c),
-            k.rms_error_arcsec,
-            (k.rms_error_arcsec / stated - 1.0) * 100.0,
-            k.rms_z
-        )?;
-    }
-    if let Some((m, f)) = mc {
-        writeln!(
-            out,
-            "Monte Carlo (white noise), {} runs: sd {m:.2}\" against the formula {f:.2}\" ({:+.1}%)",
-            a.mc_runs,
-            (m / f - 1.0) * 100.0
-        )?;
-    }
-    Ok(())
+    let p = plan_noise::search(
+        model,
+        budget,
+        timing,
+        &plan_noise::named_orders(),
+        &space,
+        target,
+        levelling_s,
+    );
+    bar.finish_and_clear();
+    p
+}
+
+/// The Monte Carlo check of the white-noise formula, when asked: its sd and the formula's.
+fn monte_carlo(a: &PlanArgs, inp: &plan::Inputs) -> Option<(f64, f64)> {
+    (a.mc_runs > 0).then(|| {
+        let bar = indicatif::ProgressBar::new(a.mc_runs as u64);
+        bar.set_message("Monte Carlo");
+        let r = plan::monte_carlo(inp, a.mc_runs, a.seed, || bar.inc(1));
+        bar.finish_and_clear();
+        r
+    })
 }
 
 /// The twin's check of the fastest run, else of the planned run: the run, its stated gyro

@@ -15,6 +15,7 @@ mod data;
 mod drift;
 mod effect;
 mod encoder;
+mod final_result;
 mod final_shocks;
 mod final_sigma;
 mod jump;
@@ -157,26 +158,17 @@ pub const MIN_POSITIONS: usize = 8;
 
 /// Diagnoses a recording.
 pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
-    let n = rec.rows.len();
     rec.require_turning()?;
     rec.require_positions(MIN_POSITIONS, "diagnosing")?;
     let started = std::time::Instant::now();
     let d = Data::new(rec);
     let white = Whitener::identity();
-    let fit_of = |y: &[f64], w: &Whitener| Model::new(d.base_cols(), y.to_vec(), w).fit();
-    let tilt = ShaftTilt::measure(&d.rec, |corr| {
-        let y: Vec<f64> = d.rate.iter().zip(corr).map(|(r, c)| r - c).collect();
-        // The exact correction scales with the fitted amplitude: a wild dwell mean must not
-        // set it, so the bursts get columns of their own here as in the noise estimate.
-        let cols = noise::with_bursts_held_out(&d, &d.base_cols(), &y);
-        let f = Model::new(cols, y, &white)
-            .fit()
-            .ok_or("the positions do not determine A cos + B sin + C")?;
-        Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
-    })?;
+    let tilt = measure_tilt(&d, &white)?;
     let tilt_warning = tilt.as_ref().and_then(|t| t.warning.clone());
-    let tilt_sigma_arcsec = tilt.as_ref().map_or(0.0, |t| t.sigma_psi_deg * 3600.0);
-    let sensitivity = tilt.as_ref().map_or(Sensitivity::NONE, |t| t.sensitivity);
+    let tilt_share = final_result::TiltShare {
+        sigma_arcsec: tilt.as_ref().map_or(0.0, |t| t.sigma_psi_deg * 3600.0),
+        sensitivity: tilt.as_ref().map_or(Sensitivity::NONE, |t| t.sensitivity),
+    };
     let y: Vec<f64> = match &tilt {
         Some(t) => d.rate.iter().zip(&t.corrections).map(|(r, c)| r - c).collect(),
         None => d.rate.clone(),
@@ -185,26 +177,16 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let noise = noise::analyse(&d, &y, &opt.noise, opt.alpha)?;
     let noise_s = noise_started.elapsed().as_secs_f64();
     let w = &noise.whitener;
-    let base = fit_of(&d.rate, w).ok_or("the positions do not determine A cos + B sin + C")?;
+    let base = Model::new(d.base_cols(), d.rate.clone(), w)
+        .fit()
+        .ok_or("the positions do not determine A cos + B sin + C")?;
     let start = Model::new(d.base_cols(), y, w);
     let (tails, rate_resid) = measured_tails(&d, noise.design.clone(), &start.y, w);
-    let mut effects: Vec<Box<dyn Effect>> = vec![
-        Box::new(drift::BiasDrift),
-        Box::new(jump::BiasJump),
-        Box::new(thermal::ThermalDrift),
-        Box::new(encoder::EncoderError),
-        Box::new(scale::ScaleFactor),
-        Box::new(nonlinearity::Nonlinearity),
-        Box::new(settling::SettlingTransient),
-        Box::new(outliers::Outliers),
-    ];
     let tilt_fitted = tilt
         .as_ref()
         .map(|t| t.corrections.clone())
-        .unwrap_or_else(|| vec![0.0; n]);
-    if let Some(t) = tilt {
-        effects.push(Box::new(t));
-    }
+        .unwrap_or_else(|| vec![0.0; d.n()]);
+    let effects = catalogue(tilt);
     let selection_started = std::time::Instant::now();
     let sel = Selector {
         data: &d,
@@ -218,126 +200,26 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     }
     .run(start)?;
     let selection_s = selection_started.elapsed().as_secs_f64();
-    let (averaged, models) = averaging::average(&sel.variants).ok_or("no model fits")?;
-    let final_cols: Vec<Vec<f64>> = sel.model.raw_cols();
-    let shocks = final_shocks::through(&d, &final_cols, &sel.model.y, &noise.model, &opt.noise, opt.replicates);
-    // Through shocks the result is the shocks' fit's; else each model met is weighed and
-    // fitted under the noise estimated with its own columns.
-    let own = match (&opt.noise, &shocks) {
-        (NoiseChoice::Estimate, None) => {
-            let met: Vec<final_sigma::Met> = sel
-                .variants
-                .iter()
-                .map(|v| final_sigma::Met {
-                    cols: v.model.raw_cols(),
-                    y: &v.model.y,
-                    scanned: v.scanned,
-                })
-                .collect();
-            final_sigma::final_verdict(&d, &met, opt.replicates)
-        }
-        _ => None,
-    };
-    let models = match &own {
-        Some(o) => averaging::under_own_noise(&sel.variants, &o.models),
-        None => models,
-    };
-    let mut final_ = noise_averaged(
-        averaged,
-        &sel.model,
-        summary(&sel.fit),
-        &noise,
-        own.as_ref(),
-        shocks.as_ref().map(|s| &s.through.verdict),
+    let averaged = averaging::average(&sel.variants).ok_or("no model fits")?;
+    let shocks = final_shocks::through(
+        &d,
+        &sel.model.raw_cols(),
+        &sel.model.y,
+        &noise.model,
+        &opt.noise,
+        opt.replicates,
     );
-    // The baseline's sigma as the final's is taken (`nf fit --tilt none`'s way): under the
-    // noise estimated with its own columns, over the models the recording allows, calibrated.
-    // Its plain GLS sigma under the tests' noise was up to 5 times smaller than `nf fit`'s on
-    // Gauss-Markov recordings, which made a finding look far from it.
-    let baseline_sigma = match (&opt.noise, &shocks) {
-        (NoiseChoice::Estimate, None) if sel.variants.len() == 1 && sel.model.y == d.rate => {
-            own.as_ref().map(|o| o.verdict.sigma_psi_deg * 3600.0)
-        }
-        (NoiseChoice::Estimate, None) => {
-            let base = final_sigma::Met {
-                cols: d.base_cols(),
-                y: &d.rate,
-                scanned: 0,
-            };
-            final_sigma::final_verdict(&d, &[base], opt.replicates).map(|o| o.verdict.sigma_psi_deg * 3600.0)
-        }
-        _ => None,
-    };
-    let s2 = sel.fit.s2();
-    let cov: Vec<Vec<f64>> = sel
-        .fit
-        .cov_unit
-        .iter()
-        .map(|r| r.iter().map(|c| c * s2).collect())
-        .collect();
-    let amp = crate::noise_fit::azimuth(&sel.fit.coef, &cov);
-    let sigma_amplitude = match (&shocks, &own) {
-        (Some(s), _) => s.through.verdict.sigma_amplitude_dph,
-        (None, Some(o)) => o.verdict.sigma_amplitude_dph,
-        (None, None) => amp.sigma_amplitude_dph,
-    };
-    let (carried, sigma_amplitude) = sensitivity.carried(final_.sigma_arcsec / 3600.0, sigma_amplitude);
-    // The tilt circle is measured apart from the gyro: its uncertainty adds.
-    final_.sigma_arcsec = (carried * 3600.0).hypot(tilt_sigma_arcsec);
-    let predicted = nf_model::uncertainty::amplitude_dph(rec.latitude_deg);
-    let unresolved = crate::noise_fit::unresolved(
-        final_.sigma_arcsec / 3600.0,
-        amp.amplitude_dph,
-        sigma_amplitude,
-        predicted,
-    );
+    let result = final_result::Final::new(&d, &sel, &noise, averaged, shocks.as_ref(), tilt_share, opt);
     let (noise_with_effects, mut findings) =
         noise_findings(&d, &sel.model, &noise, shocks.as_ref(), (tails, rate_resid), opt)?;
     findings.extend(sel.findings.iter().cloned());
-    // Structure is unexplained only when no plausible noise model explains it either, nor
-    // white noise: whole dwells that scatter more than their quarters say (shocks) make the
-    // estimate take flicker, whose whitening then anti-correlates neighbouring residuals.
-    let level = opt.alpha * UNEXPLAINED_SHARE;
-    let structure = unexplained::test(&d, &sel.model, w, level)
-        .and_then(|_| unexplained::test(&d, &sel.model.rewhiten(&white), &white, level))
-        .and_then(|_| unexplained::test(&d, &sel.model.rewhiten(&noise.cautious), &noise.cautious, level));
-    if let Some(s) = structure {
-        findings.push(Finding {
-            effect: Kind::Unexplained,
-            parameters: s.parameters,
-            p_value: s.p,
-            location: s.location,
-            after: summary(&sel.fit),
-        });
-    }
-    let before = base_residuals(&d, &base);
-    let after = sel.model.raw_residuals(&sel.fit);
-    // Drawn over the residuals of Eq. 7, the findings are shown as those residuals hold them:
-    // with their share of C, A cos and B sin taken out (a jump's step about its mean), by the
-    // baseline's own fit (under the noise model).
-    let effects: Vec<f64> = sel
-        .model
-        .effects_fitted(&sel.fit)
-        .iter()
-        .zip(&tilt_fitted)
-        .map(|(e, t)| e + t)
-        .collect();
-    let eq7 = Model::new(d.base_cols(), effects.clone(), w);
-    let fitted = eq7.fit().map_or(effects, |f| eq7.raw_residuals(&f));
-    let points = (0..n)
-        .map(|i| Point {
-            t_s: d.t[i],
-            gamma_deg: d.gamma[i],
-            before: before[i],
-            after: after[i],
-            fitted: fitted[i],
-        })
-        .collect();
+    findings.extend(unexplained_finding(&d, &sel, &noise, opt.alpha * UNEXPLAINED_SHARE));
+    let points = residual_points(&d, &base, &sel, &tilt_fitted, w);
     Ok(Diagnosis {
         alpha: opt.alpha,
         notes: tilt_warning
             .into_iter()
-            .chain(notes::notes(&findings, &sel.rivals, &models, &d))
+            .chain(notes::notes(&findings, &sel.rivals, &result.models, &d))
             .chain(notes::undecided(
                 &sel.undecided,
                 matches!(opt.noise, NoiseChoice::Given(..)),
@@ -352,35 +234,118 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_source: noise.source,
         final_sigma_from: match &shocks {
             Some(s) => Some(s.describe()),
-            None => own.as_ref().map(final_sigma::FinalSigma::describe),
+            None => result.own.as_ref().map(final_sigma::FinalSigma::describe),
         },
         through_shocks: shocks.is_some(),
         sigma_calibration: match &shocks {
             Some(s) => s.calibration,
-            None => own.as_ref().and_then(|o| o.calibration).map(|c| c.psi),
+            None => result.own.as_ref().and_then(|o| o.calibration).map(|c| c.psi),
         },
         noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: {
             let plain = summary(&base);
             Summary {
-                sigma_arcsec: baseline_sigma.unwrap_or(plain.sigma_arcsec),
+                sigma_arcsec: result.baseline_sigma_arcsec.unwrap_or(plain.sigma_arcsec),
                 ..plain
             }
         },
         findings,
         undecided: sel.undecided,
         selected: summary(&sel.fit),
-        final_,
-        unresolved,
+        final_: result.summary,
+        unresolved: result.unresolved,
         timing: Timing {
             noise_s,
             selection_s,
             selection_steps: sel.steps,
             total_s: started.elapsed().as_secs_f64(),
         },
-        models,
+        models: result.models,
         points,
     })
+}
+
+/// The shaft tilt from the inclinometer columns, if the recording has them.
+fn measure_tilt(d: &Data, white: &Whitener) -> Result<Option<ShaftTilt>, String> {
+    ShaftTilt::measure(&d.rec, |corr| {
+        let y: Vec<f64> = d.rate.iter().zip(corr).map(|(r, c)| r - c).collect();
+        // The exact correction scales with the fitted amplitude: a wild dwell mean must not
+        // set it, so the bursts get columns of their own here as in the noise estimate.
+        let cols = noise::with_bursts_held_out(d, &d.base_cols(), &y);
+        let f = Model::new(cols, y, white)
+            .fit()
+            .ok_or("the positions do not determine A cos + B sin + C")?;
+        Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
+    })
+}
+
+/// The catalogue's effects, the shaft tilt among them where it was measured.
+fn catalogue(tilt: Option<ShaftTilt>) -> Vec<Box<dyn Effect>> {
+    let mut effects: Vec<Box<dyn Effect>> = vec![
+        Box::new(drift::BiasDrift),
+        Box::new(jump::BiasJump),
+        Box::new(thermal::ThermalDrift),
+        Box::new(encoder::EncoderError),
+        Box::new(scale::ScaleFactor),
+        Box::new(nonlinearity::Nonlinearity),
+        Box::new(settling::SettlingTransient),
+        Box::new(outliers::Outliers),
+    ];
+    if let Some(t) = tilt {
+        effects.push(Box::new(t));
+    }
+    effects
+}
+
+/// Structure left after the selection, at `level`: unexplained only when no plausible noise
+/// model explains it either, nor white noise: whole dwells that scatter more than their
+/// quarters say (shocks) make the estimate take flicker, whose whitening then
+/// anti-correlates neighbouring residuals.
+fn unexplained_finding(d: &Data, sel: &select::Selection, noise: &noise::Noise, level: f64) -> Option<Finding> {
+    let (w, white) = (&noise.whitener, Whitener::identity());
+    let s = unexplained::test(d, &sel.model, w, level)
+        .and_then(|_| unexplained::test(d, &sel.model.rewhiten(&white), &white, level))
+        .and_then(|_| unexplained::test(d, &sel.model.rewhiten(&noise.cautious), &noise.cautious, level))?;
+    Some(Finding {
+        effect: Kind::Unexplained,
+        parameters: s.parameters,
+        p_value: s.p,
+        location: s.location,
+        after: summary(&sel.fit),
+    })
+}
+
+/// The residuals of Eq. 7 and of the selected model per position, with the findings drawn
+/// over the former as those residuals hold them: with their share of C, A cos and B sin
+/// taken out (a jump's step about its mean), by the baseline's own fit (under the noise
+/// model `w`).
+fn residual_points(
+    d: &Data,
+    base: &crate::linfit::Ls,
+    sel: &select::Selection,
+    tilt_fitted: &[f64],
+    w: &Whitener,
+) -> Vec<Point> {
+    let before = base_residuals(d, base);
+    let after = sel.model.raw_residuals(&sel.fit);
+    let effects: Vec<f64> = sel
+        .model
+        .effects_fitted(&sel.fit)
+        .iter()
+        .zip(tilt_fitted)
+        .map(|(e, t)| e + t)
+        .collect();
+    let eq7 = Model::new(d.base_cols(), effects.clone(), w);
+    let fitted = eq7.fit().map_or(effects, |f| eq7.raw_residuals(&f));
+    (0..d.n())
+        .map(|i| Point {
+            t_s: d.t[i],
+            gamma_deg: d.gamma[i],
+            before: before[i],
+            after: after[i],
+            fitted: fitted[i],
+        })
+        .collect()
 }
 
 /// The noise as it is beside the effects named (what the noise terms and the fix report) and
@@ -449,62 +414,6 @@ fn measured_tails(d: &Data, design: Vec<Vec<f64>>, y: &[f64], w: &Whitener) -> (
     let held = model.fit_plus(&[w.apply(&d.indicator(i))]);
     let tails = tails::estimate_held_out(&held.map_or_else(|| f.resid.clone(), |h| h.resid), i);
     (tails, model.raw_residuals(&f))
-}
-
-/// The result. Where each model met was weighed and fitted under its own noise (`own`),
-/// theirs. Through shocks, the selected model's azimuth and sigma are those of its fit
-/// through them (as `nf fit`'s). Else (the noise given, or thinned) the averaged result with
-/// the noise model's own uncertainty added: the selected model is fitted under every noise
-/// model the recording allows and averaged by their likelihoods, and the spread the model
-/// averaging added is kept on top.
-fn noise_averaged(
-    averaged: Summary,
-    selected: &Model,
-    main: Summary,
-    noise: &noise::Noise,
-    own: Option<&final_sigma::FinalSigma>,
-    shocks: Option<&noise_calib::Verdict>,
-) -> Summary {
-    if let Some(o) = own {
-        return Summary {
-            azimuth_deg: nf_model::angle::wrap_360(o.verdict.psi_deg),
-            sigma_arcsec: o.verdict.sigma_psi_deg * 3600.0,
-            ..averaged
-        };
-    }
-    let model_spread = (averaged.sigma_arcsec.powi(2) - main.sigma_arcsec.powi(2)).max(0.0);
-    if let Some(v) = shocks {
-        let moved = nf_model::angle::wrap_180(v.psi_deg - main.azimuth_deg);
-        return Summary {
-            azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + moved),
-            sigma_arcsec: ((v.sigma_psi_deg * 3600.0).powi(2) + model_spread).sqrt(),
-            ..averaged
-        };
-    }
-    let fits: Vec<(f64, Summary)> = noise
-        .plausible
-        .iter()
-        .filter_map(|(w, m)| {
-            let wh = noise.whitening.of(m).ok()?;
-            Some((*w, summary(&selected.rewhiten(&wh).fit()?)))
-        })
-        .collect();
-    let total: f64 = fits.iter().map(|f| f.0).sum();
-    if fits.is_empty() || total <= 0.0 {
-        return averaged;
-    }
-    let shift = |s: &Summary| nf_model::angle::wrap_180(s.azimuth_deg - main.azimuth_deg) * 3600.0;
-    let mean = fits.iter().map(|(w, s)| w * shift(s)).sum::<f64>() / total;
-    let var = fits
-        .iter()
-        .map(|(w, s)| w * (s.sigma_arcsec.powi(2) + (shift(s) - mean).powi(2)))
-        .sum::<f64>()
-        / total;
-    Summary {
-        azimuth_deg: nf_model::angle::wrap_360(averaged.azimuth_deg + mean / 3600.0),
-        sigma_arcsec: (var + model_spread).sqrt(),
-        ..averaged
-    }
 }
 
 fn base_residuals(d: &Data, ls: &crate::linfit::Ls) -> Vec<f64> {

@@ -1,0 +1,126 @@
+//! The text of `nf plan`: the planned run and its budgets, then what was asked beside them.
+
+use super::{PlanArgs, Planned, describe, unreachable};
+use crate::plan_noise;
+use crate::textfile::short;
+use nf_model::uncertainty::tilt_arcsec;
+use std::io::{Result, Write};
+
+pub(super) fn write(out: &mut impl Write, a: &PlanArgs, p: &Planned) -> Result<()> {
+    let visits = if p.visits_per_position == 1.0 {
+        String::new()
+    } else {
+        format!(
+            ", {} visits and {} s of dwell per position",
+            short(p.visits_per_position),
+            short(p.inp.dwell_s)
+        )
+    };
+    writeln!(
+        out,
+        "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position{visits}), {:.0} s to north with levelling and moves",
+        a.n,
+        a.dwell,
+        p.order.name(),
+        p.sigmas.gyro_dph,
+        p.time_s
+    )?;
+    budgets(out, p)?;
+    if let (Some(t), Some(search)) = (a.target, &p.search) {
+        target(out, a, p, t, search)?;
+    }
+    if let Some((c, stated, k)) = &p.twin {
+        writeln!(
+            out,
+            "twin check, {} runs of the {}: RMS error {:.2}\" against the stated gyro term {stated:.2}\" ({:+.1}%), RMS error/sigma {:.2}",
+            k.runs,
+            describe(c),
+            k.rms_error_arcsec,
+            (k.rms_error_arcsec / stated - 1.0) * 100.0,
+            k.rms_z
+        )?;
+    }
+    if let Some((m, f)) = p.mc {
+        writeln!(
+            out,
+            "Monte Carlo (white noise), {} runs: sd {m:.2}\" against the formula {f:.2}\" ({:+.1}%)",
+            a.mc_runs,
+            (m / f - 1.0) * 100.0
+        )?;
+    }
+    Ok(())
+}
+
+/// The planned run's budgets: the paper's, the exact white-noise ones and the noise model's.
+fn budgets(out: &mut impl Write, p: &Planned) -> Result<()> {
+    writeln!(
+        out,
+        "{:<22} {:>9} {:>9} {:>9} {:>9}",
+        "budget (arcsec)", "gyro", "encoder", "tilt", "total"
+    )?;
+    for (name, b) in [
+        ("Eq. 31 (paper)", &p.paper),
+        ("exact, white noise", &p.exact),
+        ("exact, numerical", &p.numerical),
+    ] {
+        writeln!(
+            out,
+            "{name:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
+            b.gyro_arcsec, b.encoder_arcsec, b.tilt_arcsec, b.total_arcsec
+        )?;
+    }
+    if let (Some(g), Some(t)) = (p.noise_gyro, p.noise_total) {
+        writeln!(
+            out,
+            "{:<22} {:>9.2} {:>9.2} {:>9.2} {:>9.2}",
+            "noise model (GLS)", g, p.exact.encoder_arcsec, p.exact.tilt_arcsec, t
+        )?;
+    }
+    Ok(())
+}
+
+/// The runs that reach the target `t` arcsec (or why none does), the allowances and the
+/// paper's n for it.
+fn target(out: &mut impl Write, a: &PlanArgs, p: &Planned, t: f64, search: &plan_noise::Plan) -> Result<()> {
+    match &search.fastest {
+        Some(c) => writeln!(out, "target {t}\": fastest run under the noise model: {}", describe(c))?,
+        None if tilt_arcsec(a.tilt, a.lat) >= t => writeln!(
+            out,
+            "target {t}\": not reachable: the levelling residue alone (tilt {} deg) gives {:.2}\"",
+            a.tilt,
+            tilt_arcsec(a.tilt, a.lat)
+        )?,
+        None => writeln!(
+            out,
+            "target {t}\": not reachable with this gyro and motor {}",
+            unreachable(search, a.max_time)
+        )?,
+    }
+    for c in &search.per_order {
+        writeln!(out, "  fastest {}", describe(c))?;
+    }
+    if search.fastest.is_some() {
+        for c in &search.short_of {
+            writeln!(out, "  never reaches it: {} (its best)", describe(c))?;
+        }
+    }
+    if let Some(s) = p.allowance {
+        writeln!(
+            out,
+            "target {t}\" at n = {}: allowances of a third of the variance each (the gyro's as white noise of a position's mean): gyro {:.5} deg/h per position, encoder {:.5} deg, levelling {:.5} deg",
+            a.n, s.gyro_dph, s.encoder_deg, s.tilt_deg
+        )?;
+    }
+    match p.paper_n {
+        Some(n) => writeln!(
+            out,
+            "target {t}\": the paper's Eq. 31 (white noise) asks for n = {n} at {} s of dwell per position",
+            short(p.inp.dwell_s)
+        ),
+        None => writeln!(
+            out,
+            "target {t}\": the paper's Eq. 31 (white noise, {} s of dwell per position) reaches it with no n",
+            short(p.inp.dwell_s)
+        ),
+    }
+}
