@@ -4,6 +4,7 @@
 //! design at once.
 
 use crate::gls::Cov;
+use std::rc::Rc;
 
 /// A larger design of the draws under one start, beyond the null's basis there.
 pub(super) enum Larger<'v> {
@@ -23,7 +24,7 @@ impl Larger<'_> {
 }
 
 /// An orthonormal basis of whitened columns.
-#[derive(Default)]
+#[derive(Debug, Default, PartialEq)]
 pub(super) struct Basis(Vec<Vec<f64>>);
 
 impl Basis {
@@ -77,15 +78,13 @@ impl Basis {
 /// both.
 pub(super) struct Nested<'v> {
     null: &'v Basis,
-    extra: Basis,
+    extra: Rc<Basis>,
 }
 
 impl<'v> Nested<'v> {
-    pub(super) fn of(null: &'v Basis, extra: &[Vec<f64>]) -> Nested<'v> {
-        Nested {
-            null,
-            extra: Basis::beyond(null, extra),
-        }
+    /// `extra` a basis beyond `null` ([`Basis::beyond`]).
+    pub(super) fn new(null: &'v Basis, extra: Rc<Basis>) -> Nested<'v> {
+        Nested { null, extra }
     }
 
     /// The RSS of `W` rate vectors side by side (row `i` their `i`th values), under the
@@ -233,7 +232,7 @@ mod tests {
                 let (small, large) = (2..n - 2)
                     .map(|j| {
                         let step: Vec<f64> = (0..n).map(|i| f64::from(u8::from(i >= j))).collect();
-                        Nested::of(&basis, &[cov.whiten(&step)]).rss_block(&one)[0]
+                        Nested::new(&basis, Rc::new(Basis::beyond(&basis, &[cov.whiten(&step)]))).rss_block(&one)[0]
                     })
                     .fold((0.0, f64::MAX), |(_, l), (s, x)| (s, l.min(x)));
                 let close = |a: f64, e: f64| (a - e).abs() <= 1e-9 * e;

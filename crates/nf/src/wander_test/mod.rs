@@ -24,7 +24,7 @@ use crate::stats::f_sf;
 use draws::Draws;
 use larger::{Basis, Larger, Nested, Steps};
 use nf_model::noise::NoiseModel;
-use std::cell::OnceCell;
+use std::cell::{OnceCell, RefCell};
 use std::rc::Rc;
 use std::sync::Arc;
 
@@ -159,7 +159,13 @@ struct Visit {
     y: Vec<f64>,
     /// The null's fit, which every likelihood with more columns extends.
     fit: OnceCell<NullFit>,
+    /// The extras met (not yet whitened) and their bases beyond the null's: an effect's
+    /// ratio and then its draws ask for the same.
+    beyond: RefCell<Vec<Met>>,
 }
+
+/// Columns not yet whitened, and their basis beyond a visit's null.
+type Met = (Vec<Vec<f64>>, Rc<Basis>);
 
 /// The whitened null design's orthonormal basis and the whitened rates' residual off it.
 struct NullFit {
@@ -177,6 +183,7 @@ impl Visit {
             y,
             start,
             fit: OnceCell::new(),
+            beyond: RefCell::new(Vec::new()),
         }
     }
 
@@ -188,11 +195,21 @@ impl Visit {
         })
     }
 
+    /// `extra`, not yet whitened, whitened and made orthonormal beyond the null's basis.
+    fn beyond(&self, extra: &[Vec<f64>]) -> Rc<Basis> {
+        if let Some((_, b)) = self.beyond.borrow().iter().find(|(raw, _)| raw.as_slice() == extra) {
+            return Rc::clone(b);
+        }
+        let b = Rc::new(Basis::beyond(&self.fit().basis, &self.start.cov.whiten_each(extra)));
+        self.beyond.borrow_mut().push((extra.to_vec(), Rc::clone(&b)));
+        b
+    }
+
     /// `extra`'s larger design beyond this whitened null.
     fn larger(&self, extra: &Alternative) -> Larger<'_> {
         let basis = &self.fit().basis;
         match extra {
-            Alternative::Columns(cols) => Larger::Columns(Nested::of(basis, &self.start.cov.whiten_each(cols))),
+            Alternative::Columns(cols) => Larger::Columns(Nested::new(basis, self.beyond(cols))),
             Alternative::Step(tried) => Larger::Steps(Steps::of(&self.start.cov, basis, tried.range())),
         }
     }
@@ -201,7 +218,7 @@ impl Visit {
     /// a column depends on the others.
     fn loglik(&self, extra: &[Vec<f64>]) -> Option<f64> {
         let fit = self.fit();
-        let more = Basis::beyond(&fit.basis, &self.start.cov.whiten_each(extra));
+        let more = self.beyond(extra);
         if fit.basis.len() < self.cols.len() || more.len() < extra.len() {
             return None;
         }
@@ -576,6 +593,22 @@ mod tests {
         // A column the design holds already adds nothing: no likelihood, as no fit.
         let v = Visit::of(test.starts[0].clone(), &r.cols, &r.y);
         assert_eq!(v.loglik(&[r.cols[0].iter().map(|x| 2.0 * x).collect()]), None);
+    }
+
+    #[test]
+    fn an_extras_basis_is_made_once_for_its_ratio_and_its_draws() {
+        let r = run(40, 0.5, 4e-4, 3);
+        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
+        let v = Visit::of(test.starts[0].clone(), &r.cols, &r.y);
+        let line = vec![r.t.clone()];
+        let square = vec![r.t.iter().map(|x| x * x).collect::<Vec<f64>>()];
+        let first = v.beyond(&line);
+        assert!(v.loglik(&line).is_some());
+        assert!(Rc::ptr_eq(&first, &v.beyond(&line)));
+        // Other columns, even of the same shape, get their own.
+        assert!(!Rc::ptr_eq(&first, &v.beyond(&square)));
+        let fresh = Basis::beyond(&v.fit().basis, &v.start.cov.whiten_each(&square));
+        assert_eq!(*v.beyond(&square), fresh);
     }
 
     #[test]
