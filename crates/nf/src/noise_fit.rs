@@ -566,11 +566,40 @@ pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, 
     let ratio = amplitude_dph / predicted_dph;
     let off = (amplitude_dph - predicted_dph).abs();
     if !(0.5..=1.5).contains(&ratio) && off > 3.0 * sigma_amplitude_dph {
+        let times = if (0.01..100.0).contains(&ratio) {
+            format!("{ratio:.2}")
+        } else {
+            format!("{ratio:.3e}")
+        };
         return Some(format!(
-            "the first-harmonic amplitude {amplitude_dph:.5} deg/h is {ratio:.2} times the Earth rate's {predicted_dph:.5} deg/h at this latitude"
+            "the first-harmonic amplitude {amplitude_dph:.5} deg/h is {times} times the Earth rate's {predicted_dph:.5} deg/h at this latitude{}",
+            unit_slip(ratio)
         ));
     }
     None
+}
+
+/// A rate unit that would explain an amplitude `ratio` times the Earth rate's (within 20 %):
+/// rates written in deg/s, rad/s or arcsec/h where the format has deg/h.
+fn unit_slip(ratio: f64) -> &'static str {
+    let per_s: f64 = 1.0 / 3600.0;
+    [
+        (
+            per_s,
+            " (1/3600 of it: as if rate_dph held deg/s; the format's rates are deg/h)",
+        ),
+        (
+            per_s.to_radians(),
+            " (as if rate_dph held rad/s; the format's rates are deg/h)",
+        ),
+        (
+            3600.0,
+            " (3600 times it: as if rate_dph held arcsec/h; the format's rates are deg/h)",
+        ),
+    ]
+    .into_iter()
+    .find(|(f, _)| (ratio / f - 1.0).abs() < 0.2)
+    .map_or("", |(_, why)| why)
 }
 
 /// Up to ten line numbers, and how many more.
@@ -580,5 +609,30 @@ pub fn lines_text(lines: &[usize]) -> String {
         0 => "none".into(),
         k if k > 10 => format!("{}, and {} more", shown.join(", "), k - 10),
         _ => shown.join(", "),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unresolved;
+
+    #[test]
+    fn an_amplitude_off_by_a_units_factor_names_the_unit() {
+        let earth = 10.63559;
+        let why = |amplitude: f64| unresolved(0.01, amplitude, 1e-3 * amplitude, earth);
+        assert_eq!(why(earth * 1.02), None);
+        for (amplitude, unit) in [
+            (earth / 3600.0, "deg/s"),
+            (earth / 3600.0 * 1.1, "deg/s"),
+            ((earth / 3600.0).to_radians(), "rad/s"),
+            (earth * 3600.0, "arcsec/h"),
+        ] {
+            let w = why(amplitude).unwrap();
+            assert!(w.contains(&format!("held {unit}")), "{amplitude}: {w}");
+        }
+        // A latitude that is wrong, not a unit: the ratio alone.
+        let w = why(earth * 0.2).unwrap();
+        assert!(w.contains(" 0.20 times") && !w.contains("held"), "{w}");
+        assert!(why(earth / 3600.0).unwrap().contains(" 2.778e-4 times"));
     }
 }
