@@ -165,10 +165,55 @@ fn a_recording_of_the_simulated_instrument_lacks_nothing() {
 }
 
 #[test]
+fn a_temperature_ramp_the_simulation_lacks_is_judged_under_the_files_noise() {
+    // A ramp of 0.015 C/s at 0.01 deg/h per C: under the recording's own noise estimate the
+    // run's wander explains it as well; under the file's white noise, where the recording's
+    // scatters match it, it is named. A temperature that follows time is a drift as much (the
+    // averaging shares the two): either goes in, at 1.5e-4 deg/h per s. Where the ramp's
+    // residual departs in an Allan deviation (one of these three, over 4 positions) the run
+    // is judged under its own estimate: the file's noise is then in question too.
+    let plain = InstrumentFile::default();
+    let mut ramp = plain.clone();
+    ramp.temperature.ramp_c_per_s = 0.015;
+    ramp.temperature.bias_dph_per_c = 0.01;
+    let mut judged = 0;
+    for seed in 1..=3 {
+        ramp.seed = seed;
+        let rec = recording(&ramp);
+        let own = diagnose(&rec, &Options::default()).unwrap();
+        let slope = |k: Kind| own.findings.iter().any(|f| f.effect == k);
+        assert!(!slope(Kind::ThermalDrift) && !slope(Kind::BiasDrift), "seed {seed}");
+        let s = against(&rec, &plain);
+        let noise_differs = s.before.any(|q| q.is_scatter());
+        assert_eq!(s.under_file_noise, !noise_differs, "seed {seed}");
+        if !s.under_file_noise {
+            continue;
+        }
+        judged += 1;
+        let missing = |k: Kind| s.physics.iter().any(|p| p.kind == k && p.verdict == Verdict::Missing);
+        assert!(
+            missing(Kind::ThermalDrift) || missing(Kind::BiasDrift),
+            "seed {seed}: {:?}",
+            s.physics
+        );
+        let f = &s.fixed.file;
+        let put_in = f.temperature.bias_dph_per_c * 0.015 + f.drift.linear_dph_per_s;
+        assert!(
+            (put_in / 1.5e-4 - 1.0).abs() < 0.3,
+            "seed {seed}: {put_in} {:?}",
+            s.fixed.changes
+        );
+    }
+    assert!(judged >= 2, "{judged} of 3 judged under the file's noise");
+}
+
+#[test]
 fn flicker_noise_the_simulation_lacks_is_named_and_put_in() {
     let mut with = base();
     with.noise.bias_instability_dph = 0.01;
     let s = against(&recording(&with), &base());
+    // Its noise departs from the file's: judged under the recording's own estimate.
+    assert!(!s.under_file_noise);
     let p = s.physics.iter().find(|p| p.kind == Kind::BiasInstability);
     assert!(p.is_some_and(|p| p.verdict == Verdict::Missing), "{:?}", s.physics);
     assert!(s.fixed.file.noise.bias_instability_dph > 0.0);
@@ -205,14 +250,14 @@ fn flicker_noise_the_simulation_lacks_is_named_and_put_in() {
 
 #[test]
 fn an_effect_only_a_replay_names_stays_unless_the_recording_contradicts_it() {
-    // A heater cycle at the edge of what one run shows: in these two runs the first replay
-    // names it and the recording of the same file does not. That is no evidence against the
-    // file's cycle (before, the fix took it out).
+    // A heater cycle at the edge of what one run shows: in these two runs the recording of
+    // the same file does not name it (28 of seeds 1-30 do, judged under the file's noise).
+    // That is no evidence against the file's cycle (before, the fix took it out).
     let mut f = InstrumentFile::default();
     f.temperature.swing_c = 2.0;
     f.temperature.swing_period_s = 100.0;
     f.temperature.bias_dph_per_c = 2.5e-3;
-    for seed in [16, 30] {
+    for seed in [14, 30] {
         f.seed = seed;
         let s = against(&recording(&f), &f);
         assert!(

@@ -19,6 +19,9 @@ pub struct SimJson<'a> {
     changes: &'a [String],
     /// Dwell of the recording's plan, s.
     dwell_s: f64,
+    /// Whether the physics was judged under the instrument file's noise model (the
+    /// recording's noise matching it), else under the recording's own estimate.
+    judged_under_file_noise: bool,
     /// Each effect: in the recording, in the simulation, and the verdict.
     physics: Vec<PhysicsJson<'a>>,
     /// Where the recording departs from the fixed file's replays.
@@ -169,6 +172,7 @@ pub fn json(s: &SimReport) -> SimJson<'_> {
         before: comparison_json(&s.before),
         changes: &s.fixed.changes,
         dwell_s: s.dwell_s,
+        judged_under_file_noise: s.under_file_noise,
         physics: s
             .physics
             .iter()
@@ -195,6 +199,12 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
     )?;
     for w in &s.warnings {
         writeln!(out, "  warning: {w}")?;
+    }
+    if s.under_file_noise {
+        writeln!(
+            out,
+            "  judged under the instrument file's noise model, which the recording's noise matches (no scatter, Allan deviation or sample kurtosis beyond the bound): what departs from the simulation as it is (the diagnosis above is under the recording's own noise estimate)"
+        )?;
     }
     let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict.needs_change()).collect();
     if lacking.is_empty() {
@@ -254,13 +264,7 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
             after.map_or("-".into(), |a| format!("{:.1}{}", a.z, star(a.mismatch))),
         )?;
     }
-    let set: Vec<String> = s
-        .before
-        .lines
-        .iter()
-        .filter(|l| l.mismatch && l.quantity.set_by_fix())
-        .map(|l| l.quantity.to_string())
-        .collect();
+    let set: Vec<String> = s.fixed.set.iter().map(|q| q.to_string()).collect();
     let by_construction = if set.is_empty() {
         String::new()
     } else {
