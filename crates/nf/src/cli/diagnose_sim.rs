@@ -19,8 +19,8 @@ pub struct SimJson<'a> {
     changes: &'a [String],
     /// Dwell of the recording's plan, s.
     dwell_s: f64,
-    /// Whether the physics was judged under the instrument file's noise model (the
-    /// recording's noise matching it), else under the recording's own estimate.
+    /// Whether the physics was judged under the instrument file's noise model, else under the
+    /// recording's own estimate.
     judged_under_file_noise: bool,
     /// Each effect: in the recording, in the simulation, and the verdict.
     physics: Vec<PhysicsJson<'a>>,
@@ -203,7 +203,7 @@ pub fn text(out: &mut impl Write, s: &SimReport) -> std::io::Result<()> {
     if s.under_file_noise {
         writeln!(
             out,
-            "  judged under the instrument file's noise model, which the recording's noise matches (no scatter, Allan deviation or sample kurtosis beyond the bound): what departs from the simulation as it is (the diagnosis above is under the recording's own noise estimate)"
+            "  judged under the instrument file's noise model: what departs from the simulation as it is, its noise included (the recording's noise matches it, or what is found under it, put in, leaves fewer quantities departing; the diagnosis above is under the recording's own noise estimate)"
         )?;
     }
     let lacking: Vec<_> = s.physics.iter().filter(|p| p.verdict.needs_change()).collect();

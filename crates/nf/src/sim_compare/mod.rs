@@ -87,8 +87,8 @@ pub struct SimReport {
     /// What the user should know before reading the comparison.
     pub warnings: Vec<String>,
     pub dwell_s: f64,
-    /// Whether the physics was judged under the file's noise model ([`under_the_files_noise`])
-    /// rather than under the recording's own estimate.
+    /// Whether the physics was judged under the file's noise model ([`against`]) rather than
+    /// under the recording's own estimate.
     pub under_file_noise: bool,
     pub physics: Vec<Physics>,
     pub before: Comparison,
@@ -226,29 +226,67 @@ fn warnings(rec: &Recording, file: &InstrumentFile) -> Vec<String> {
     }
 }
 
-/// The diagnosis options that judge the recording under the file's own noise model, where
-/// that is the question: the noise was not given, the file's is Gaussian with a white level
-/// and no shocks, and the recording's noise matches it (no scatter, Allan deviation or
-/// sample kurtosis beyond the bound). What the simulation lacks is then what departs from
-/// the simulation as it is, its noise included; under the recording's own estimate a
-/// moderate drift or temperature ramp is put down to the run's wander, which the file says
-/// the gyro does not have (a ramp of 2.5 C at 0.01 deg/h per C over a 48-position sweep:
-/// named under the file's white noise, not under the estimate).
-fn under_the_files_noise(
-    file: &InstrumentFile,
-    before: &Comparison,
-    opt: &diagnose::Options,
-) -> Option<diagnose::Options> {
+/// The diagnosis options that judge the recording under the file's own noise model: where
+/// the noise was not given and the file's is Gaussian with a white level and no shocks.
+fn files_noise(file: &InstrumentFile, opt: &diagnose::Options) -> Option<diagnose::Options> {
     let model = file.noise.model();
     let gaussian = model.arw_deg_rth > 0.0 && model.student_t_dof == 0.0 && file.shocks.is_none();
-    let noise_differs = before.any(|q| q.is_scatter() || q == Quantity::SampleKurtosis);
-    (opt.noise == NoiseChoice::Estimate && gaussian && !noise_differs).then(|| diagnose::Options {
+    (opt.noise == NoiseChoice::Estimate && gaussian).then(|| diagnose::Options {
         noise: NoiseChoice::Given(model, "the instrument file's [noise]".into()),
         ..opt.clone()
     })
 }
 
+/// What a comparison is judged from: the recording, the file, and the replays of the file.
+struct Context<'a> {
+    target: Target<'a>,
+    file: &'a InstrumentFile,
+    before: &'a Comparison,
+    /// The first replays, diagnosed for what only the simulation has.
+    first: &'a [Recording],
+}
+
+impl Context<'_> {
+    /// The physics the simulation lacks by the recording's diagnosis `diag` (made with
+    /// `dopt`, as the replays' then are), and the file fixed with it.
+    fn judge(&self, diag: &Diagnosis, dopt: &diagnose::Options) -> Result<(Vec<Physics>, Fixed), String> {
+        let t = &self.target;
+        let sim_diags = self
+            .first
+            .iter()
+            .map(|r| diagnose::diagnose(r, dopt))
+            .collect::<Result<Vec<_>, _>>()?;
+        let physics = physics::judge(t.rec, diag, self.file, &sim_diags, self.before, t.dwell_s, t.origin_s);
+        let target = Target { diag, ..*t };
+        let mut fixed = target.fix(self.file, &physics);
+        // A fix must not leave the replays further from the recording: a finding of one run can
+        // be its noise. Then the catalogue effects are left out, if that is closer.
+        let (worse, named) = (fixed.after.mismatches(), names_of_effects(&physics));
+        if worse > self.before.mismatches() && !named.is_empty() {
+            let noise: Vec<Physics> = physics.iter().filter(|p| p.kind.is_noise()).cloned().collect();
+            let mut without = target.fix(self.file, &noise);
+            if without.after.mismatches() < worse {
+                without.changes.push(format!(
+                    "not written in: {named}; with them {worse} of the quantities differed from the recording's beyond the bound, without them {} (a finding of one run can be its noise)",
+                    without.after.mismatches()
+                ));
+                fixed = without;
+            }
+        }
+        Ok((physics, fixed))
+    }
+}
+
 /// Compares `rec` (diagnosed as `diag`) with the simulation `file`.
+///
+/// What the simulation lacks is judged under the file's own noise model where the recording's
+/// noise matches it (no scatter, Allan deviation or sample kurtosis beyond the bound): what
+/// departs from the simulation as it is, its noise included. Under the recording's own
+/// estimate a moderate drift or temperature effect is held back as wander the run may have,
+/// which the file says the gyro does not. Where the noise departs, the recording's estimate
+/// judges, unless the file's noise model finds physics whose fix leaves fewer quantities
+/// departing: an effect can make the departure itself (a temperature ramp's residual in an
+/// Allan deviation).
 pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &Options) -> Result<SimReport, String> {
     let (dwell_s, _) = crate::noise_fit::dwell_of(rec);
     let mine = profile(rec).ok_or("the positions do not determine A cos + B sin + C")?;
@@ -257,47 +295,41 @@ pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &O
     let before = compare::compare(&mine, &sims.profiles, opt.alpha);
     let recording = residuals(rec);
     let places = positions::departures(rec, &recording, &sims.residuals, opt.alpha);
-    let under_file = under_the_files_noise(file, &before, &opt.diagnose);
-    let dopt = under_file.as_ref().unwrap_or(&opt.diagnose);
-    let rediagnosed = match &under_file {
-        Some(o) => Some(diagnose::diagnose(rec, o)?),
+    let ctx = Context {
+        target: Target {
+            rec,
+            recording: &recording,
+            mine: &mine,
+            diag,
+            opt,
+            dwell_s,
+            origin_s,
+        },
+        file,
+        before: &before,
+        first: &sims.first,
+    };
+    let noise_matches = !before.any(|q| q.is_scatter() || q == Quantity::SampleKurtosis);
+    let theirs = match files_noise(file, &opt.diagnose) {
+        Some(o) => Some(ctx.judge(&diagnose::diagnose(rec, &o)?, &o)?),
         None => None,
     };
-    let diag = rediagnosed.as_ref().unwrap_or(diag);
-    let sim_diags = sims
-        .first
-        .iter()
-        .map(|r| diagnose::diagnose(r, dopt))
-        .collect::<Result<Vec<_>, _>>()?;
-    let physics = physics::judge(rec, diag, file, &sim_diags, &before, dwell_s, origin_s);
-    let target = Target {
-        rec,
-        recording: &recording,
-        mine: &mine,
-        diag,
-        opt,
-        dwell_s,
-        origin_s,
-    };
-    let mut fixed = target.fix(file, &physics);
-    // A fix must not leave the replays further from the recording: a finding of one run can
-    // be its noise. Then the catalogue effects are left out, if that is closer.
-    let (worse, named) = (fixed.after.mismatches(), names_of_effects(&physics));
-    if worse > before.mismatches() && !named.is_empty() {
-        let noise: Vec<Physics> = physics.iter().filter(|p| p.kind.is_noise()).cloned().collect();
-        let mut without = target.fix(file, &noise);
-        if without.after.mismatches() < worse {
-            without.changes.push(format!(
-                "not written in: {named}; with them {worse} of the quantities differed from the recording's beyond the bound, without them {} (a finding of one run can be its noise)",
-                without.after.mismatches()
-            ));
-            fixed = without;
+    let ((physics, fixed), under_file_noise) = match theirs {
+        Some(t) if noise_matches => (t, true),
+        Some(t) => {
+            let own = ctx.judge(diag, &opt.diagnose)?;
+            if t.1.after.mismatches() < own.1.after.mismatches() {
+                (t, true)
+            } else {
+                (own, false)
+            }
         }
-    }
+        None => (ctx.judge(diag, &opt.diagnose)?, false),
+    };
     Ok(SimReport {
         warnings: warnings(rec, file),
         dwell_s,
-        under_file_noise: under_file.is_some(),
+        under_file_noise,
         physics,
         before,
         places,
