@@ -12,9 +12,10 @@ pub fn nf(args: &[&str]) -> (i32, String, String) {
     )
 }
 
-/// A path for `name` in a directory of this test binary and process.
+/// A path for `name` in this test binary's directory under the target's `tmp` (each run
+/// writes over the last; none of it is left in the system's temporary directory).
 pub fn tmp(name: &str) -> String {
-    let d = std::env::temp_dir().join(format!("nf-{}-{}", env!("CARGO_CRATE_NAME"), std::process::id()));
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(env!("CARGO_CRATE_NAME"));
     std::fs::create_dir_all(&d).unwrap();
     d.join(name).to_string_lossy().into_owned()
 }
