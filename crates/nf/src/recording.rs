@@ -7,7 +7,7 @@
 //! angle on two rows is fine: a run may visit a position twice (`order = forward-back`).
 
 pub use crate::textfile::Error;
-use crate::textfile::{Head, blank_cells, err, is_missing, number, optional as optional_cell, read_text, short};
+use crate::textfile::{Head, blank_cells, err, is_missing, number, optional as optional_cell, read_text, short, shown};
 use std::collections::BTreeMap;
 
 pub const FORMAT: &str = "northfinder-recording/1";
@@ -41,6 +41,9 @@ pub struct Recording {
 }
 
 const REQUIRED: [&str; 4] = ["index", "t_s", "encoder_deg", "rate_dph"];
+
+/// The quarter means' columns, in order.
+const QUARTERS: [&str; 4] = ["q1_dph", "q2_dph", "q3_dph", "q4_dph"];
 /// Every column the reader uses: each may be given once only.
 const COLUMNS: [&str; 13] = [
     "index",
@@ -128,10 +131,7 @@ impl Recording {
                 _ => {
                     return err(
                         at,
-                        format!(
-                            "latitude_deg '{}' is not a latitude in degrees (-90 to 90)",
-                            v.escape_debug()
-                        ),
+                        format!("latitude_deg '{}' is not a latitude in degrees (-90 to 90)", shown(v)),
                     );
                 }
             },
@@ -157,10 +157,7 @@ impl Recording {
             if index < 0.0 || index.fract() != 0.0 || index > u32::MAX as f64 {
                 return err(
                     n,
-                    format!(
-                        "index '{}' is not a whole number from 0",
-                        cells[col("index")].escape_debug()
-                    ),
+                    format!("index '{}' is not a whole number from 0", shown(&cells[col("index")])),
                 );
             }
             let hash = cells_hash(&cells);
@@ -207,7 +204,7 @@ impl Recording {
             if rate_sd_dph.is_some_and(|s| s < 0.0) {
                 return err(n, "rate_sd_dph is negative");
             }
-            let q = ["q1_dph", "q2_dph", "q3_dph", "q4_dph"].map(&optional);
+            let q = QUARTERS.map(&optional);
             let quarters = match q {
                 [Ok(Some(a)), Ok(Some(b)), Ok(Some(c)), Ok(Some(d))] => Some([a, b, c, d]),
                 _ => {
@@ -218,11 +215,9 @@ impl Recording {
                 }
             };
             let rate_dph = num("rate_dph")?;
-            for (name, v) in std::iter::once(("rate_dph", rate_dph)).chain(
-                ["q1_dph", "q2_dph", "q3_dph", "q4_dph"]
-                    .into_iter()
-                    .zip(quarters.into_iter().flatten()),
-            ) {
+            for (name, v) in
+                std::iter::once(("rate_dph", rate_dph)).chain(QUARTERS.into_iter().zip(quarters.into_iter().flatten()))
+            {
                 if v.abs() >= MAX_RATE_DPH {
                     return err(
                         n,
@@ -264,6 +259,8 @@ impl Recording {
         quarters_of_few_samples(&mut rows, &mut warnings);
         quarters_that_vary(&mut rows, &mut warnings);
         sample_spread_of_none(&rows, &mut warnings);
+        some_quarter_columns(&head, &mut warnings);
+        times_before_the_start(&rows, &mut warnings);
         if let Some(d) = dwell_s {
             dwells_apart(&rows, d, head.meta_line("dwell_s"), &mut warnings);
         }
@@ -411,6 +408,37 @@ fn sample_spread_of_none(rows: &[Row], warnings: &mut Vec<Error>) {
             what: format!(
                 "rate_sd_dph is 0 in {} dwell(s) of more than one sample: their samples all equal, or no spread was written; kept, not taken for the dwells' noise",
                 zero.len()
+            ),
+        });
+    }
+}
+
+/// Some of the quarter columns without the others: a dwell's quarters are read only as all
+/// four, so these are not used; said at the header.
+fn some_quarter_columns(head: &Head<'_>, warnings: &mut Vec<Error>) {
+    let present: Vec<&str> = QUARTERS.into_iter().filter(|c| head.col(c).is_some()).collect();
+    if !present.is_empty() && present.len() < QUARTERS.len() {
+        warnings.push(Error {
+            line: head.line,
+            what: format!(
+                "{} without the other quarter columns: a dwell's quarters are read only as all four (q1_dph .. q4_dph), so these are not used",
+                present.join(", ")
+            ),
+        });
+    }
+}
+
+/// A `t_s` before the run's start, from which the format counts it: said once, at the first;
+/// the times are used as given (only their differences enter a fit).
+fn times_before_the_start(rows: &[Row], warnings: &mut Vec<Error>) {
+    let early: Vec<&Row> = rows.iter().filter(|r| r.t_s < 0.0).collect();
+    if let Some(first) = early.first() {
+        warnings.push(Error {
+            line: first.line,
+            what: format!(
+                "t_s {} is before the run's start, from which the format counts it ({} such dwell(s)); the times are used as given",
+                short(first.t_s),
+                early.len()
             ),
         });
     }

@@ -209,7 +209,7 @@ impl<'a> Head<'a> {
                 Ok(x) if x.is_finite() && x > 0.0 => Ok(Some(x)),
                 _ => err(
                     self.meta_line(key),
-                    format!("{key} '{}' is not a positive number of {unit}", v.escape_debug()),
+                    format!("{key} '{}' is not a positive number of {unit}", shown(v)),
                 ),
             },
         }
@@ -260,7 +260,7 @@ impl<'a> Head<'a> {
     /// The data records after the header as `(line number, cells)`, by the `csv` crate
     /// (quoted fields, fields trimmed); blank and `#` lines skipped.
     pub fn rows(&self, text: &'a str) -> impl Iterator<Item = Result<(usize, csv::StringRecord), Error>> {
-        let width = self.names.len();
+        let (width, names, header) = (self.names.len(), self.names.clone(), self.line);
         // The byte where the line after the header starts.
         let start = text
             .match_indices('\n')
@@ -297,6 +297,12 @@ impl<'a> Head<'a> {
                     what: format!("not a CSV record: {}", e.kind_text()),
                 })?;
                 let n = r.position().map_or(0, |p| line_of(p.byte()));
+                if r.iter().eq(names.iter().map(String::as_str)) {
+                    return err(
+                        n,
+                        format!("the header of line {header} again: two files joined? Each file holds one run"),
+                    );
+                }
                 if r.len() == width {
                     Ok((n, r))
                 } else {
@@ -395,12 +401,23 @@ pub fn short(x: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
+/// A cell as an error message shows it: control characters escaped, not sent to the
+/// terminal, and a long one cut (a binary block would fill the screen).
+pub fn shown(v: &str) -> String {
+    const MOST: usize = 40;
+    let escaped: String = v.escape_debug().collect();
+    match escaped.char_indices().nth(MOST) {
+        Some((at, _)) => format!("{}... ({} bytes)", &escaped[..at], v.len()),
+        None => escaped,
+    }
+}
+
 /// A required cell as a finite number; the error names the line and the column.
 pub fn number(line: usize, name: &str, v: &str) -> Result<f64, Error> {
     match v.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
         _ if v.is_empty() => err(line, format!("{name} is empty")),
-        _ => err(line, format!("{name} '{}' is not a finite number", v.escape_debug())),
+        _ => err(line, format!("{name} '{}' is not a finite number", shown(v))),
     }
 }
 
@@ -422,7 +439,7 @@ pub fn optional(line: usize, name: &str, v: &str) -> Result<Option<f64>, Error> 
         // An infinity is no "no value": the writer measured something off the scale.
         Ok(_) => err(line, format!("{name} '{v}' is not a finite number")),
         // A corrupt cell may hold control characters: shown escaped, not sent to the terminal.
-        _ => err(line, format!("{name} '{}' is not a number", v.escape_debug())),
+        _ => err(line, format!("{name} '{}' is not a number", shown(v))),
     }
 }
 

@@ -536,3 +536,36 @@ fn a_sample_spread_of_zero_over_many_samples_is_said() {
     );
     assert_eq!(r.rows[3].rate_sd_dph, Some(0.0), "kept as written");
 }
+
+#[test]
+fn a_second_header_is_two_files_joined_and_a_long_bad_cell_is_cut() {
+    let joined = format!("{HEAD}0,1,0,1\nindex,t_s,encoder_deg,rate_dph\n1,2,90,0\n");
+    assert_eq!(
+        error(&joined),
+        (
+            5,
+            "line 5: the header of line 3 again: two files joined? Each file holds one run".into()
+        )
+    );
+    let junk: String = "\u{7}\u{1b}[2J".repeat(30);
+    let (line, what) = error(&format!("{HEAD}{junk},1,0,1\n"));
+    assert_eq!(line, 4);
+    assert!(what.contains("... (150 bytes)' is not a finite number"), "{what}");
+    assert!(!what.contains('\u{1b}') && what.len() < 120, "{what}");
+}
+
+#[test]
+fn some_of_the_quarter_columns_and_times_before_the_start_are_said() {
+    let text = "# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph\n0,-5,0,1,1,1\n1,-2,90,1,1,1\n2,1,180,1,1,1\n";
+    let r = Recording::parse(text).unwrap();
+    let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(
+        said,
+        [
+            "line 3: q1_dph, q2_dph without the other quarter columns: a dwell's quarters are read only as all four (q1_dph .. q4_dph), so these are not used",
+            "line 4: t_s -5 is before the run's start, from which the format counts it (2 such dwell(s)); the times are used as given",
+        ]
+    );
+    assert!(r.rows.iter().all(|r| r.quarters_dph.is_none()));
+    assert_eq!(r.rows[0].t_s, -5.0);
+}
