@@ -14,7 +14,8 @@ to 60) and azimuth. 36, 48 or 72 positions of 1 s, 1.35 s apart, in a sweep (or 
 pairs); STRETCH s of the log make one second of the recording. The effects at the suite's
 moderate level (docs/diagnose.md), in units of `s` or of the quantity's standard error.
 `--fit` puts them through `nf fit` instead: RMS error/sigma, how many beyond 3 sigma, and
-white least squares' RMS error/sigma. `--positions` cycles through other run sizes; `--short`
+white least squares' RMS error/sigma over the recordings resolved, and how many `nf fit` said
+unresolved. `--positions` cycles through other run sizes; `--short`
 writes the window's sample spread (`rate_sd_dph`, `samples`) or nothing in place of the
 quarter means. `--keep DIR` keeps the recordings whose final is worse than the baseline or beyond 3 sigma;
 the shaft tilt is 0.002 deg unless `TILT_DEG` says otherwise.
@@ -181,10 +182,13 @@ def diagnose_row(nf, path, rows, effect, keep):
 
 
 def fit_row(nf, path, rows, effect):
-    z, white = [], []
+    z, white, unresolved = [], [], 0
     for _, psi in rows:
         f = json.loads(subprocess.run([nf, "fit", path, "--json"], capture_output=True,
                                       text=True, check=True).stdout)
+        if f["azimuth_deg"] is None:
+            unresolved += 1
+            continue
         e = err(f["azimuth_deg"], psi)
         z.append(e / f["sigma_arcsec"])
         # Three positions leave no residual, and white least squares no sigma.
@@ -193,7 +197,7 @@ def fit_row(nf, path, rows, effect):
     z, white = np.array(z), np.array(white)
     rms_white = f"{np.sqrt(np.mean(white * white)):.2f}" if len(white) else "-"
     print(f"{effect:<20} {len(z):>4} {np.sqrt(np.mean(z * z)):>10.2f} {np.sum(abs(z) > 3):>7}"
-          f" {rms_white:>15}", flush=True)
+          f" {rms_white:>15} {unresolved:>10}", flush=True)
 
 
 def main():
@@ -212,7 +216,7 @@ def main():
     raw, rate_hz = read_log(log)
     print(f"{log}: stretch {stretch}, {'pairs' if pairs else 'sweep'}, {runs} per row")
     if fit:
-        print(f"{'effect':<20} runs  RMS z fit  beyond  RMS z white LS")
+        print(f"{'effect':<20} runs  RMS z fit  beyond  RMS z white LS  unresolved")
     else:
         print(f"{'effect':<20} runs  named first  alarms  beyond  worse  rms base  rms final  named")
     with tempfile.TemporaryDirectory() as tmp:

@@ -36,6 +36,7 @@ pub mod sim_compare;
 pub mod spikes;
 pub mod static_log;
 mod stats;
+pub mod student_fit;
 #[cfg(test)]
 mod sweep_run;
 pub mod textfile;

@@ -9,6 +9,7 @@ use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned, scaled
 use crate::recording::{Recording, Row};
 use crate::sample_spread;
 use crate::shock_fit::{self, ShockFit};
+use crate::student_fit;
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
 use nf_model::noise::NoiseModel;
@@ -40,6 +41,15 @@ pub enum NoiseSource {
         /// The colour families searched (shocks: heavy-tailed dwell means).
         colours: Colours,
     },
+    /// White at the level of the residuals alone, too few to tell a colour by or to
+    /// calibrate by replicates: the sigmas are Student's t half-widths ([`student_fit`]).
+    Residuals {
+        dof: usize,
+        /// The sigma over the least-squares one, and the 68.27 % half-width in sigmas.
+        widening: f64,
+        one_sigma: f64,
+        spread_refused: Option<f64>,
+    },
     Given(String),
 }
 
@@ -56,9 +66,7 @@ impl NoiseSource {
                 colours,
             } => {
                 let from = match (from_quarters, from_spread, spread_refused) {
-                    (0, 0, Some(r)) => format!(
-                        "the samples' spread left out: the dwell means scatter {r:.3} times the variance it gives a dwell mean, more than chance allows (is `rate_sd_dph` the samples' standard deviation, in deg/h?); "
-                    ),
+                    (0, 0, Some(r)) => format!("{}; ", spread_left_out(*r)),
                     (0, 0, None) => String::new(),
                     (0, s, _) => format!("the samples' spread in {s} dwells and "),
                     (q, _, _) => format!("quarter means of {q} dwells and "),
@@ -87,9 +95,27 @@ impl NoiseSource {
                     "estimated from the recording ({from}REML on {means} in time order, {dof} dof){calibrated}{shocks}"
                 )
             }
+            NoiseSource::Residuals {
+                dof,
+                widening,
+                one_sigma,
+                spread_refused,
+            } => {
+                let refused = spread_refused.map_or(String::new(), |r| format!("; {}", spread_left_out(r)));
+                format!(
+                    "white at the level of the dwell means' residuals alone ({dof} dof: too few to tell a colour by, and no quarter means or samples' spread{refused}); the azimuth's error follows Student's t of {dof} dof, which has no finite variance: sigma is {widening:.2} times the least-squares one, so that 95 % of such errors lie within 1.96 sigma (68 % within {one_sigma:.2} sigma); quarter means, the samples' spread or a noise model (`--noise`) would measure the noise"
+                )
+            }
             NoiseSource::Given(s) => format!("given: {s}"),
         }
     }
+}
+
+/// Why the samples' spread was left out: `r`, the dwell means' variance over the one it gives.
+fn spread_left_out(r: f64) -> String {
+    format!(
+        "the samples' spread left out: the dwell means scatter {r:.3} times the variance it gives a dwell mean, more than chance allows (is `rate_sd_dph` the samples' standard deviation, in deg/h?)"
+    )
 }
 
 /// The GLS azimuth.
@@ -189,6 +215,9 @@ pub fn fit(
             p + 1
         ));
     }
+    if !within && n - p <= student_fit::MOST_DOF {
+        return Ok(student(&cols, y, dwell_s, dwell_from, refused_ratio)?);
+    }
     let colours = if n == p { Colours::White } else { colours_of(&cols, y) };
     let windows = WindowSet::new(&t, &vec![dwell_s; n]);
     let data = Data {
@@ -257,6 +286,37 @@ pub fn fit(
         chi2: g.chi2,
         dof: g.dof,
         shocks,
+    })
+}
+
+/// The fit of a run whose residuals alone, one or two of them, measure the noise.
+fn student(
+    cols: &[Vec<f64>],
+    y: &[f64],
+    dwell_s: f64,
+    dwell_from: &'static str,
+    spread_refused: Option<f64>,
+) -> Result<NoiseFit, &'static str> {
+    let f = student_fit::fit(cols, y).ok_or("the positions do not determine the fit's terms")?;
+    Ok(NoiseFit {
+        model: NoiseModel::white(f.level_dph, dwell_s),
+        source: NoiseSource::Residuals {
+            dof: f.dof,
+            widening: f.widening,
+            one_sigma: f.one_sigma,
+            spread_refused,
+        },
+        dwell_s,
+        dwell_from,
+        psi_deg: wrap_360(f.verdict.psi_deg),
+        sigma_psi_deg: f.verdict.sigma_psi_deg,
+        widening: f.widening,
+        amplitude_dph: f.verdict.amplitude_dph,
+        sigma_amplitude_dph: f.verdict.sigma_amplitude_dph,
+        offset_dph: f.coef[0],
+        chi2: f.chi2,
+        dof: f.dof,
+        shocks: None,
     })
 }
 

@@ -23,6 +23,11 @@ pub fn t_sf2(t: f64, nu: f64) -> f64 {
     StudentsT::new(0.0, 1.0, nu).map_or(f64::NAN, |d| 2.0 * d.sf(t.abs()))
 }
 
+/// The `p` quantile of Student's t with `nu` degrees of freedom.
+pub fn t_quantile(p: f64, nu: f64) -> f64 {
+    StudentsT::new(0.0, 1.0, nu).map_or(f64::NAN, |d| d.inverse_cdf(p))
+}
+
 /// Upper tail of the chi-square distribution with `k` degrees of freedom.
 pub fn chi2_sf(x: f64, k: f64) -> f64 {
     if x.is_nan() || x <= 0.0 {
@@ -81,6 +86,13 @@ mod tests {
         assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-12);
         assert!((t_sf2(2.228, 10.0) - 0.05).abs() < 2e-4);
         assert!((t_sf2(1.96, 1e7) - 0.05).abs() < 1e-4);
+        // Student's tables; one and two dof in closed form (tan, and (2p - 1) / sqrt(2p(1 - p))).
+        assert!((t_quantile(0.975, 1.0) - 12.7062).abs() < 1e-3);
+        assert!((t_quantile(0.975, 2.0) - 4.3027).abs() < 1e-3);
+        assert!((t_quantile(0.975, 10.0) - 2.2281).abs() < 1e-3);
+        let p = 0.841_344_746;
+        assert!((t_quantile(p, 1.0) - (std::f64::consts::PI * (p - 0.5)).tan()).abs() < 1e-6);
+        assert!((t_quantile(p, 2.0) - (2.0 * p - 1.0) / (2.0 * p * (1.0 - p)).sqrt()).abs() < 1e-6);
         assert!((f_sf(3.10, 3.0, 20.0) - 0.05).abs() < 1e-3);
         assert!((f_sf(4.35, 1.0, 20.0) - 0.05).abs() < 1e-3);
         assert_eq!(f_sf(0.0, 2.0, 10.0), 1.0);

@@ -197,7 +197,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
             }),
             sigma_calibration: match &g.source {
                 NoiseSource::Estimated { calibration, .. } => calibration.map(|c| c.psi),
-                NoiseSource::Given(_) => None,
+                NoiseSource::Residuals { .. } | NoiseSource::Given(_) => None,
             },
             sigma_widening: g.widening,
             source: g.source.describe(),

@@ -5,7 +5,7 @@ use super::super::angle5;
 use super::super::noise_args::{STATIC_LOG_HINT, colour_text};
 use super::FIRST_ORDER_MAX_DEG;
 use crate::analysis::{Analysis, TiltMethod};
-use crate::noise_fit::{NoiseSource, lines_text};
+use crate::noise_fit::{NoiseFit, NoiseSource, lines_text};
 use nf_model::angle::surveying_azimuth_deg;
 use nf_model::fit::Drift;
 use std::io::{Result, Write};
@@ -75,7 +75,7 @@ fn azimuth(out: &mut impl Write, an: &Analysis) -> Result<()> {
         out,
         "sigma          {:.2} arcsec  (1 sigma, generalised least squares under the noise model{}{})",
         g.sigma_psi_deg * 3600.0,
-        widened(g.widening),
+        widened(g),
         match an.sigma_inclinometer_deg * 3600.0 {
             s if s >= 0.005 => format!(", with {s:.2} arcsec from the tilt circle's uncertainty"),
             _ => String::new(),
@@ -84,11 +84,18 @@ fn azimuth(out: &mut impl Write, an: &Analysis) -> Result<()> {
 }
 
 /// What the gyro's sigma holds beyond GLS under the printed model alone, when it is more.
-fn widened(widening: f64) -> String {
-    if widening < 1.005 {
-        return String::new();
+fn widened(g: &NoiseFit) -> String {
+    match g.source {
+        NoiseSource::Residuals { dof, .. } => format!(
+            ", widened {:.2} times: Student's t of {dof} dof, 95 % within 1.96 sigma",
+            g.widening
+        ),
+        _ if g.widening < 1.005 => String::new(),
+        _ => format!(
+            ", widened {:.2} times for the noise models this run cannot rule out",
+            g.widening
+        ),
     }
-    format!(", widened {widening:.2} times for the noise models this run cannot rule out")
 }
 
 /// The noise model, where it came from, and the shocks read.
@@ -106,7 +113,7 @@ fn noise(out: &mut impl Write, an: &Analysis) -> Result<()> {
         g.chi2,
         g.dof
     )?;
-    if matches!(g.source, NoiseSource::Estimated { .. }) {
+    if matches!(g.source, NoiseSource::Estimated { .. } | NoiseSource::Residuals { .. }) {
         writeln!(out, "               {STATIC_LOG_HINT}")?;
     }
     if let Some(s) = &g.shocks {
