@@ -105,11 +105,13 @@ struct NoiseModelJson {
     /// (null otherwise).
     shocks: Option<ShocksJson>,
     /// The factor a parametric bootstrap scaled the azimuth's sigma by (an estimated model
-    /// only; null when given or when no replicate could be drawn).
+    /// only; null when given, when no replicate could be drawn, or when one or two residuals
+    /// alone measured the noise and the sigma is read off Student's t).
     sigma_calibration: Option<f64>,
     /// How many times the gyro's share of `sigma_arcsec` exceeds GLS under this model alone:
     /// the spread of the noise models the recording allows, and the calibration (1 when the
-    /// model was given).
+    /// model was given; Student's t 95 % half-width over 1.96 when one or two residuals alone
+    /// measured the noise).
     sigma_widening: f64,
     /// Where the model came from: the flags, a file, or estimated from the recording.
     source: String,
