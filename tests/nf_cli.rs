@@ -610,6 +610,20 @@ fn log_turns_a_defmt_log_into_the_same_recording() {
     let (code, _, err) = nf(&["log", &path, "-o", &out]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(std::fs::read_to_string(&out).unwrap(), rec.text());
+    // A position's line logged twice and two lines swapped: the copy dropped, the order the
+    // index's, in the file written too (it kept the copy before).
+    let mut lines: Vec<String> = rec.lines.iter().map(|l| format!("INFO  rec {l}\n")).collect();
+    let at = lines.len() - 4;
+    lines.insert(at, lines[at].clone());
+    lines.swap(at + 2, at + 3);
+    std::fs::write(&path, lines.concat()).unwrap();
+    let (code, _, err) = nf(&["log", &path, "-o", &out]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("the copy is dropped") && err.contains("not in the order"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), rec.text());
     // Two runs in one log: listed, and each taken whole with --run.
     let mut second = Recorder::default();
     simulate(

@@ -19,9 +19,24 @@ pub struct Log {
 }
 
 impl Log {
-    /// The recording as it is written out.
-    pub fn recording(&self) -> String {
-        self.rec.iter().map(|(_, l)| format!("{l}\n")).collect()
+    /// The recording as it is written out: its metadata and header, the position lines on
+    /// the log's lines `rows` in that order (the reader's: visiting order, exact copies
+    /// dropped), then any `#` lines that were among the positions.
+    pub fn kept(&self, rows: &[usize]) -> String {
+        let header = self.rec.iter().position(|(_, l)| !l.starts_with('#'));
+        let head = header.map_or(self.rec.len(), |h| h + 1);
+        let line = |n: &usize| self.rec[head..].iter().find(|(at, _)| at == n).map(|(_, l)| l);
+        let comments = self.rec[head..]
+            .iter()
+            .filter(|(_, l)| l.starts_with('#'))
+            .map(|(_, l)| l);
+        self.rec[..head]
+            .iter()
+            .map(|(_, l)| l)
+            .chain(rows.iter().filter_map(line))
+            .chain(comments)
+            .map(|l| format!("{l}\n"))
+            .collect()
     }
 
     /// The recording with each line on its line of the log (blank lines between), so that the
@@ -305,6 +320,17 @@ WARN  inclinometer: bad line dropped
         assert!(l.warnings[0].what.contains("skipped on line(s) 2"), "{:?}", l.warnings);
         assert!(l.warnings[1].what.contains("dropped"), "{:?}", l.warnings);
         assert_eq!(l.on_log_lines(), "# format = northfinder-recording/1\n\n\nindex,t_s\n");
-        assert_eq!(l.recording(), "# format = northfinder-recording/1\nindex,t_s\n");
+        assert_eq!(l.kept(&[]), "# format = northfinder-recording/1\nindex,t_s\n");
+    }
+
+    #[test]
+    fn the_recording_written_is_the_lines_the_reader_kept_in_its_order() {
+        let log =
+            b"rec # format = northfinder-recording/1\nrec index,t_s\nrec 0,1\nrec 2,3\nrec 1,2\nrec 1,2\nrec # note\n";
+        let l = extract(log);
+        assert_eq!(
+            l.kept(&[3, 5, 4]),
+            "# format = northfinder-recording/1\nindex,t_s\n0,1\n1,2\n2,3\n# note\n"
+        );
     }
 }

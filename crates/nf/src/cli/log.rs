@@ -119,7 +119,8 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
             2,
         ));
     }
-    write_out(&a.out, &log.recording())?;
+    let lines: Vec<usize> = rec.rows.iter().map(|r| r.line).collect();
+    write_out(&a.out, &log.kept(&lines))?;
     note!("{} positions recovered from {}", rec.rows.len(), a.log);
     Ok(())
 }
