@@ -96,6 +96,8 @@ impl Term {
 /// method's symmetric `coef_sd / (2 size)` gave a walk's K RMS error/sigma 1.7 on logs of
 /// an independent generator, its estimates below the truth too sure. A term fitted at zero
 /// has the 1-sigma upper bound `sqrt(coef_sd)`; no upper end is below `sqrt(coef + coef_sd)`.
+/// Within 1 sd of zero (a term not significant) the interval reaches zero: the 2-dof
+/// chi-square's lower end stopped at 0.74 of the size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Param {
     pub value: f64,
@@ -113,10 +115,10 @@ impl Param {
         let gauss_hi = (coef + coef_sd).max(0.0).sqrt();
         let (lo, hi) = if coef > 0.0 && coef_sd > 0.0 {
             // Within 1 sd of zero the coefficient's own law is no chi-square's: two degrees of
-            // freedom at the least, and nearer zero the bound from zero takes over.
+            // freedom at the least, and nearer zero the bounds from zero take over.
             let edf = (2.0 * (coef / coef_sd).powi(2)).max(2.0);
             let (lo, hi) = adev_interval(coef, edf);
-            (lo, hi.max(gauss_hi))
+            (if coef > coef_sd { lo } else { 0.0 }, hi.max(gauss_hi))
         } else {
             (0.0, gauss_hi)
         };
@@ -625,6 +627,10 @@ mod tests {
         // (Wilson-Hilferty quantiles of chi-square with 18 dof at 0.841 and 0.159.)
         let (lo, hi) = (0.09f64 * 18.0 / 23.88, 0.09f64 * 18.0 / 12.12);
         assert!((few.lo / lo.sqrt() - 1.0).abs() < 0.02, "{few:?}");
+        // Within 1 sd of zero, not significant: the interval reaches zero.
+        let weak = Param::of(1.0e-4, 4.0e-4);
+        assert!(weak.value > 0.0 && weak.lo == 0.0, "{weak:?}");
+        assert!((weak.value + weak.sigma) >= 5.0e-4f64.sqrt());
         assert!(((few.value + few.sigma) / hi.sqrt() - 1.0).abs() < 0.02, "{few:?}");
         assert!(few.sigma > (0.09f64 + 0.03).sqrt() - 0.3);
         assert!((few.error_over_sigma(few.value + 2.0 * few.sigma) + 2.0).abs() < 1e-12);
