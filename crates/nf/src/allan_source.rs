@@ -200,10 +200,10 @@ const SPIKES_LISTED: usize = 10;
 fn spike_notes(found: &[spikes::Spike], log: &StaticLog, kept: bool, notes: &mut Vec<String>) {
     for s in found.iter().take(SPIKES_LISTED) {
         notes.push(format!(
-            "spike at line {}: rate_dph {} is {:.0} robust sigmas off its neighbours or the log",
+            "spike at line {}: rate_dph {} is {} robust sigmas off its neighbours or the log",
             log.lines[s.index],
             short(log.rate_dph[s.index]),
-            s.sigmas
+            short(s.sigmas.round())
         ));
     }
     if found.len() > SPIKES_LISTED {

@@ -395,8 +395,12 @@ pub fn blank_cells(column: &str, lines: &[usize], total: usize, rows: &str) -> S
 }
 
 /// A number as a message gives it: six decimals at most, no trailing zeros (a difference of
-/// two times is 3.4, not 3.3999999999999915).
+/// two times is 3.4, not 3.3999999999999915); from 1e9 on in exponent form (1e308 is not 309
+/// digits).
 pub fn short(x: f64) -> String {
+    if x.abs() >= 1e9 {
+        return format!("{x:.4e}");
+    }
     let s = format!("{x:.6}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
@@ -561,6 +565,15 @@ mod tests {
         let rows: Vec<_> = h.rows(text).map(Result::unwrap).collect();
         assert_eq!((rows[0].0, &rows[0].1[1]), (3, "a, b"));
         assert_eq!((rows[1].0, &rows[1].1[1]), (7, "say \"hi\""));
+    }
+
+    #[test]
+    fn a_number_is_short_in_a_message_however_large() {
+        assert_eq!(
+            (short(3.3999999999999915), short(-0.5), short(1.0)),
+            ("3.4".into(), "-0.5".into(), "1".into())
+        );
+        assert_eq!((short(1e308), short(-2.5e9)), ("1.0000e308".into(), "-2.5000e9".into()));
     }
 
     #[test]

@@ -77,7 +77,10 @@ impl NoiseArgs {
             student_t_dof: self.student_t_dof.unwrap_or(base.student_t_dof),
         };
         if self.gm_sigma.is_some_and(|s| s > 0.0) && m.gm_tau_s == 0.0 {
-            return Err(Fail("--gm-sigma needs --gm-tau, the correlation time in s".into(), 2));
+            return Err(Fail(
+                "--gm-sigma needs --gm-tau, the correlation time in s, above 0".into(),
+                2,
+            ));
         }
         // A time alone adds nothing: said, since the user meant a Gauss-Markov term.
         if self.gm_tau.is_some_and(|t| t > 0.0) && m.gm_sigma_dph == 0.0 {
