@@ -25,11 +25,10 @@ impl Log {
     pub fn kept(&self, rows: &[usize]) -> String {
         let header = self.rec.iter().position(|(_, l)| !l.starts_with('#'));
         let head = header.map_or(self.rec.len(), |h| h + 1);
-        let line = |n: &usize| self.rec[head..].iter().find(|(at, _)| at == n).map(|(_, l)| l);
-        let comments = self.rec[head..]
-            .iter()
-            .filter(|(_, l)| l.starts_with('#'))
-            .map(|(_, l)| l);
+        // The lines are in the log's order: found by halving, not by a scan per row.
+        let body = &self.rec[head..];
+        let line = |n: &usize| body.binary_search_by_key(n, |(at, _)| *at).ok().map(|i| &body[i].1);
+        let comments = body.iter().filter(|(_, l)| l.starts_with('#')).map(|(_, l)| l);
         self.rec[..head]
             .iter()
             .map(|(_, l)| l)
