@@ -67,7 +67,7 @@ const OPTIONAL_GROUPS: [(&str, &[&str]); 6] = [
     ("temp_c", &["temp_c"]),
     ("tilt_x_deg", &["tilt_x_deg"]),
     ("tilt_y_deg", &["tilt_y_deg"]),
-    ("q1_dph .. q4_dph", &["q1_dph", "q2_dph", "q3_dph", "q4_dph"]),
+    ("q1_dph .. q4_dph", &QUARTERS),
 ];
 
 /// The lines on which an optional column has no value (empty, NaN, NA, null, ...): read as
