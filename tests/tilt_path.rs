@@ -2,7 +2,7 @@
 //! latitudes up to 85 deg, with both inclinometer columns, with `tilt_x_deg` alone, and with a
 //! reading missing, both reach the same azimuth, and it is the truth within its sigma.
 
-use nf::analysis::{Options, analyse};
+use nf::analysis::{Options, TiltMethod, analyse};
 use nf::diagnose::{self, Kind, diagnose};
 use nf::recording::Recording;
 use nf_instrument::run::{RunConfig, TiltPolicy};
@@ -252,4 +252,62 @@ fn near_the_pole_a_large_tilts_feedback_is_in_the_sigma() {
     let largest = z.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     println!("RMS error/sigma {rms:.2}, largest {largest:.2}");
     assert!((0.5..1.5).contains(&rms), "{rms}");
+}
+
+/// A tilt the correction asked for leaves in is said in the text and the JSON alike (an
+/// outside audit: first order's warning was in the text only, and `--tilt none` on a 1 deg
+/// tilt printed a 15" sigma 2600" off without a word).
+#[test]
+fn a_tilt_left_in_by_the_correction_asked_for_is_said() {
+    let with = |method| Options {
+        tilt: Some(method),
+        ..Options::default()
+    };
+    let (tilted, _) = recording(2.0, 43.8, 3);
+    let rec = Recording::parse(&tilted).unwrap();
+    let first = analyse(&rec, &with(TiltMethod::FirstOrder)).unwrap();
+    assert!(
+        first
+            .tilt_warning
+            .unwrap()
+            .contains("tilted 2.00 deg; first order leaves")
+    );
+    let none = analyse(&rec, &with(TiltMethod::None)).unwrap();
+    let w = none.tilt_warning.unwrap();
+    // eta tan(lat) at 2 deg and 43.8 deg: 6905".
+    assert!(w.contains("left uncorrected") && w.contains("= 690"), "{w}");
+    assert!(
+        none.budget_exact.tilt_arcsec > 6800.0,
+        "{}",
+        none.budget_exact.tilt_arcsec
+    );
+    let (slight, _) = recording(0.5, 43.8, 4);
+    let first = analyse(&Recording::parse(&slight).unwrap(), &with(TiltMethod::FirstOrder)).unwrap();
+    assert_eq!(first.tilt_warning, None);
+    let (level, _) = recording(0.0, 43.8, 5);
+    let none = analyse(&Recording::parse(&level).unwrap(), &with(TiltMethod::None)).unwrap();
+    assert_eq!(none.tilt_warning, None);
+}
+
+/// A recording made at 60 deg but labelled 43.8: the Earth rate is resolved, its amplitude
+/// 0.69 of the label's, and the warning names the latitude that fits (the audit's file got
+/// "scale factor 0.694" alone, its azimuth 1365" off through the tilt correction at 4").
+#[test]
+fn an_amplitude_of_another_latitude_is_said() {
+    let (text, _) = recording(0.5, 60.0, 6);
+    let relabelled = text.replace("latitude_deg = 60.00000", "latitude_deg = 43.8");
+    assert_ne!(relabelled, text);
+    let fit = analyse(&Recording::parse(&relabelled).unwrap(), &Options::default()).unwrap();
+    let w = fit.amplitude_warning().unwrap();
+    // The tilt corrected at the wrong latitude moves the amplitude a little.
+    let named: f64 = w
+        .split("latitude +-")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((named - 60.0).abs() < 0.5, "{w}");
+    let right = analyse(&Recording::parse(&text).unwrap(), &Options::default()).unwrap();
+    assert_eq!(right.amplitude_warning(), None);
 }

@@ -1,6 +1,7 @@
 //! The fit of a recording: the azimuth with the tilt correction the recording allows, its
 //! uncertainty from the residuals and from the budgets, the residuals themselves.
 
+use crate::amplitude_check;
 use crate::far_off::{self, Wild};
 use crate::noise_calib;
 use crate::noise_fit::{self, NoiseChoice, NoiseFit};
@@ -106,6 +107,23 @@ pub struct Analysis {
     pub wild: Vec<Wild>,
 }
 
+impl Analysis {
+    /// Why the amplitude, the Earth rate resolved, still disagrees with `WE cos(lat)` at the
+    /// latitude given, when it does ([`amplitude_check::amplitude_off`]).
+    pub fn amplitude_warning(&self) -> Option<String> {
+        let g = &self.gls;
+        if g.unresolved(self.amplitude_predicted_dph).is_some() {
+            return None;
+        }
+        amplitude_check::amplitude_off(
+            g.amplitude_dph,
+            g.sigma_amplitude_dph,
+            self.latitude_deg,
+            self.method == TiltMethod::None,
+        )
+    }
+}
+
 /// Fits a recording.
 pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
     rec.require_turning()?;
@@ -146,6 +164,8 @@ pub fn analyse(rec: &Recording, opt: &Options) -> Result<Analysis, String> {
     let sigma_tilt = match (method, shaft) {
         (TiltMethod::Exact, Some(s)) => s.rms_deg * (2.0 / n as f64).sqrt(),
         (TiltMethod::FirstOrder, _) => tilt_x_scatter(rec).map_or(opt.sigma_tilt_deg, |s| s * (2.0 / n as f64).sqrt()),
+        // Left uncorrected, the tilt the readings show is the error.
+        (TiltMethod::None, Some(s)) => s.tilt_deg.max(opt.sigma_tilt_deg),
         _ => opt.sigma_tilt_deg,
     };
     let sig = Sigmas {

@@ -6,6 +6,7 @@ pub mod allan_fit;
 pub mod allan_model;
 pub mod allan_removed;
 pub mod allan_source;
+mod amplitude_check;
 pub mod analysis;
 pub mod diagnose;
 pub mod diagnose_eval;

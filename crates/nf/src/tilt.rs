@@ -15,6 +15,11 @@ use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
 use nf_model::level::ShaftTilt;
 
+/// Tilt (deg) above which a requested first-order correction is warned against.
+const FIRST_ORDER_MAX_DEG: f64 = 1.0;
+/// A tilt left uncorrected is warned of where the circle stands out of the readings' scatter
+/// at this p (the circle test's).
+const LEFT_IN_P: f64 = 1e-3;
 /// Iterations of the exact correction before it counts as not converging.
 const MAX_ITERATIONS: u32 = 50;
 /// Convergence: the azimuth moves less than this between iterations, deg.
@@ -76,6 +81,20 @@ impl Sensitivity {
             (m[1][0] * sigma_psi_deg).hypot(m[1][1] * sigma_amplitude_dph),
         )
     }
+}
+
+/// What a tilt the readings show (the circle against none at [`LEFT_IN_P`]) does when it is
+/// left uncorrected: the azimuth moves by up to `eta tan(lat)`, which no sigma holds.
+fn left_in(c: &Circle, lat_deg: f64) -> Option<String> {
+    let s = &c.shaft;
+    (c.test().p < LEFT_IN_P).then(|| {
+        format!(
+            "the inclinometer shows the shaft tilted {:.4} deg towards {:.1} deg, left uncorrected: it moves the azimuth by up to eta tan(lat) = {:.1}\", which the sigma does not hold (--tilt auto corrects it)",
+            s.tilt_deg,
+            s.tilt_dir_deg,
+            s.tilt_deg * 3600.0 * lat_deg.to_radians().tan().abs()
+        )
+    })
 }
 
 /// The exact correction for one tilt circle, solved.
@@ -231,17 +250,32 @@ pub fn correct(
         sensitivity: Sensitivity::NONE,
         circle_test: None,
     };
+    // Measured where not used, so the output can say what a tilt the correction left.
+    let measured = || circle(rec).ok().map(|c| c.0);
     match method {
-        TiltMethod::None => Ok(none),
+        TiltMethod::None => {
+            let c = measured();
+            Ok(Tilt {
+                shaft: c.as_ref().map(|c| c.shaft),
+                circle_test: c.as_ref().map(Circle::test),
+                warning: c.as_ref().and_then(|c| left_in(c, lat)),
+                ..none
+            })
+        }
         TiltMethod::FirstOrder => {
             let (x, bridged) = bridged_x(rec)?;
-            // Measured, not used: so the output can say how large a tilt first order took.
-            let c = circle(rec).ok().map(|c| c.0);
+            let c = measured();
             Ok(Tilt {
                 corrections: x.iter().map(|&x| vertical_earth_rate_dph(lat, x)).collect(),
                 bridged,
                 shaft: c.as_ref().map(|c| c.shaft),
                 circle_test: c.as_ref().map(Circle::test),
+                warning: c.filter(|c| c.shaft.tilt_deg > FIRST_ORDER_MAX_DEG).map(|c| {
+                    format!(
+                        "the shaft is tilted {:.2} deg; first order leaves an error of the order of the tilt squared, tens of sigma at a few degrees: --tilt exact",
+                        c.shaft.tilt_deg
+                    )
+                }),
                 ..none
             })
         }

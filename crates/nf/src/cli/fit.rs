@@ -16,9 +16,6 @@ use nf_model::fit::Drift;
 use nf_model::noise::NoiseModel;
 use std::io::Write;
 
-/// Tilt (deg) above which a requested first-order correction is warned against.
-const FIRST_ORDER_MAX_DEG: f64 = 1.0;
-
 mod json;
 mod text;
 

@@ -16,6 +16,9 @@ pub(super) struct FitJson {
     amplitude_dph: f64,
     /// Amplitude the latitude predicts, deg/h.
     amplitude_predicted_dph: f64,
+    /// Why the amplitude, resolved, disagrees with the latitude's (a scale factor or a
+    /// latitude far off); null when it agrees.
+    amplitude_warning: Option<String>,
     /// Azimuth psi of Eq. 7 (generalised least squares), deg; null when the Earth rate is
     /// not resolved.
     azimuth_deg: Option<f64>,
@@ -159,6 +162,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
     FitJson {
         amplitude_dph: g.amplitude_dph,
         amplitude_predicted_dph: an.amplitude_predicted_dph,
+        amplitude_warning: an.amplitude_warning(),
         // + 0.0: a -0.0 azimuth reads as a sign error.
         azimuth_deg: unresolved.is_none().then_some(g.psi_deg + 0.0),
         budget_eq31_paper: (&an.budget_paper).into(),

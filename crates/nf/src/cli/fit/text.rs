@@ -3,7 +3,6 @@
 
 use super::super::angle5;
 use super::super::noise_args::{STATIC_LOG_HINT, colour_text};
-use super::FIRST_ORDER_MAX_DEG;
 use crate::analysis::{Analysis, TiltMethod};
 use crate::noise_fit::{NoiseFit, NoiseSource, lines_text};
 use nf_model::angle::surveying_azimuth_deg;
@@ -156,6 +155,9 @@ fn white_fit(out: &mut impl Write, an: &Analysis) -> Result<()> {
         an.amplitude_predicted_dph,
         g.amplitude_dph / an.amplitude_predicted_dph
     )?;
+    if let Some(w) = an.amplitude_warning() {
+        writeln!(out, "               WARNING: {w}")?;
+    }
     if f.dof == 0 {
         writeln!(out, "bias (offset)  {:.5} deg/h", f.offset_dph)?;
         return writeln!(out, "residuals      none: the fit passes through every position");
@@ -187,15 +189,8 @@ fn tilt(out: &mut impl Write, rows: usize, an: &Analysis) -> Result<()> {
             },
             rows - an.tilt_bridged
         )?,
-        (TiltMethod::FirstOrder, shaft) => {
-            writeln!(out, "tilt           corrected per position from tilt_x (first order)")?;
-            if let Some(s) = shaft.filter(|s| s.tilt_deg > FIRST_ORDER_MAX_DEG) {
-                writeln!(
-                    out,
-                    "               WARNING: the shaft is tilted {:.2} deg; first order leaves an error of the order of the tilt squared, tens of sigma at a few degrees: --tilt exact",
-                    s.tilt_deg
-                )?
-            }
+        (TiltMethod::FirstOrder, _) => {
+            writeln!(out, "tilt           corrected per position from tilt_x (first order)")?
         }
         _ => writeln!(
             out,
