@@ -311,3 +311,22 @@ fn an_amplitude_of_another_latitude_is_said() {
     let right = analyse(&Recording::parse(&text).unwrap(), &Options::default()).unwrap();
     assert_eq!(right.amplitude_warning(), None);
 }
+
+/// Rates with no Earth rate in them (a gyro that stopped answering, every rate 5 deg/h) leave
+/// the exact correction nothing to scale by: the fit says the Earth rate is not resolved
+/// (it said the correction did not converge, the tilt the suspect).
+#[test]
+fn constant_rates_are_not_resolved_rather_than_a_tilt_that_did_not_converge() {
+    // Level, the correction vanished with the amplitude and the fit found no harmonic at all.
+    for tilt in [1.0, 0.0] {
+        let (text, _) = recording(tilt, 43.8, 7);
+        let mut rec = Recording::parse(&text).unwrap();
+        for r in &mut rec.rows {
+            r.rate_dph = 5.0;
+        }
+        let fit = analyse(&rec, &Options::default()).unwrap_or_else(|e| panic!("tilt {tilt}: {e}"));
+        assert!(fit.gls.unresolved(fit.amplitude_predicted_dph).is_some());
+        let d = diagnose(&rec, &diagnose::Options::default()).unwrap();
+        assert!(d.unresolved.is_some(), "{:?}", d.final_);
+    }
+}

@@ -191,7 +191,9 @@ impl Recording {
                 return err(n, format!("encoder_deg {encoder_deg} is outside 0 <= gamma < 360"));
             }
             let samples = match optional("samples")? {
-                Some(s) if s < 0.0 || s.fract() != 0.0 => return err(n, format!("samples {s} is not a count")),
+                Some(s) if s < 0.0 || s.fract() != 0.0 || s > u32::MAX as f64 => {
+                    return err(n, format!("samples {s} is not a count (0 to {})", u32::MAX));
+                }
                 s => s.map(|s| s as u32),
             };
             if samples == Some(0) {
@@ -261,6 +263,7 @@ impl Recording {
         sample_spread_of_none(&rows, &mut warnings);
         some_quarter_columns(&head, &mut warnings);
         times_before_the_start(&rows, &mut warnings);
+        time_leaps(&rows, &mut warnings);
         if let Some(d) = dwell_s {
             dwells_apart(&rows, d, head.meta_line("dwell_s"), &mut warnings);
         }
@@ -444,6 +447,40 @@ fn times_before_the_start(rows: &[Row], warnings: &mut Vec<Error>) {
     }
 }
 
+/// A step between visits this many times the median step is a leap: a pause, or a time
+/// written wrong (a 1e300 was read without a word).
+const LEAP: f64 = 100.0;
+
+/// Steps of `t_s` of [`LEAP`] times the median step or more: said once, with the largest and
+/// where; the times are used as given (the noise model reads them as time passed).
+fn time_leaps(rows: &[Row], warnings: &mut Vec<Error>) {
+    let mut steps: Vec<f64> = rows.windows(2).map(|w| w[1].t_s - w[0].t_s).collect();
+    if steps.len() < 3 {
+        return;
+    }
+    steps.sort_by(f64::total_cmp);
+    let median = steps[steps.len() / 2];
+    let leaps: Vec<&[Row]> = rows
+        .windows(2)
+        .filter(|w| w[1].t_s - w[0].t_s >= LEAP * median)
+        .collect();
+    if let Some(w) = leaps
+        .iter()
+        .max_by(|a, b| (a[1].t_s - a[0].t_s).total_cmp(&(b[1].t_s - b[0].t_s)))
+    {
+        warnings.push(Error {
+            line: w[1].line,
+            what: format!(
+                "t_s leaps by {} s from line {} (the median step between visits is {} s; {} such leap(s)): a pause, or a time written wrong; the times are used as given",
+                short(w[1].t_s - w[0].t_s),
+                w[0].line,
+                short(median),
+                leaps.len()
+            ),
+        });
+    }
+}
+
 /// Dwells of `dwell_s` whose centres are closer than that overlap, which a stepped run cannot
 /// do (it moves and settles between them): said once, at the metadata's line; the length is
 /// taken as given.
@@ -487,7 +524,11 @@ fn in_visiting_order(rows: &mut [Row], warnings: &mut Vec<Error>) -> Result<(), 
             b.line,
             format!(
                 "t_s {} of index {} is not after t_s {} of index {} (line {}): the visits are in time order",
-                b.t_s, b.index, a.t_s, a.index, a.line
+                short(b.t_s),
+                b.index,
+                short(a.t_s),
+                a.index,
+                a.line
             ),
         ),
         _ => Ok(()),

@@ -11,6 +11,7 @@ use crate::linfit;
 use crate::recording::Recording;
 use crate::stats::f_sf;
 use crate::tilt_sense::{self, AxisReading};
+use nf_model::EARTH_RATE_DPH;
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
 use nf_model::level::ShaftTilt;
@@ -317,6 +318,10 @@ fn solve(
         .map(|&g| vertical_earth_rate_dph(lat, circle_x_deg(t, g)))
         .collect();
     let (mut psi, mut amp) = fit(&corr)?;
+    // No Earth rate to scale the exact correction by (constant rates, a dead gyro): where
+    // Newton then fails, the fit says it is not resolved, and first order is as good as any.
+    let no_earth_rate = !(0.5..=1.5).contains(&(amp / (EARTH_RATE_DPH * lat.to_radians().cos())));
+    let first_order = (corr, psi, amp);
     // The azimuth and the amplitude are a fixed point of "correct with them, then fit". At
     // high latitude and large tilt the map moves nearly as fast as its arguments (its slope is
     // about eta tan(lat)), and plain iteration stalls: Newton on
@@ -330,7 +335,10 @@ fn solve(
     let mut closest: Option<(f64, Vec<f64>, f64, f64)> = None;
     let mut converged = None;
     for k in 1..=MAX_ITERATIONS {
-        let (g, c) = eval(psi, amp)?;
+        let (g, c) = match eval(psi, amp) {
+            Err(_) if no_earth_rate => break,
+            r => r?,
+        };
         if g[0].abs() < PSI_TOL_DEG && g[1].abs() < 1e-12 * amp.abs().max(1e-6) {
             converged = Some((k, c, psi, amp, g));
             break;
@@ -338,7 +346,10 @@ fn solve(
         if closest.as_ref().is_none_or(|(d, ..)| g[0].abs() < *d) {
             closest = Some((g[0].abs(), c, psi, amp));
         }
-        let j = jacobian(&mut eval, psi, amp, g)?;
+        let j = match jacobian(&mut eval, psi, amp, g) {
+            Err(_) if no_earth_rate => break,
+            r => r?,
+        };
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         let (dp, da) = if det.is_finite() && det.abs() > 1e-300 {
             (
@@ -356,6 +367,15 @@ fn solve(
         (None, Some((d, corrections, psi, amp))) if d < NEAR_ENOUGH_DEG => {
             let (g, _) = eval(psi, amp)?;
             (MAX_ITERATIONS, corrections, psi, amp, g)
+        }
+        _ if no_earth_rate => {
+            let (corrections, psi_deg, _) = first_order;
+            return Ok(Solution {
+                corrections,
+                iterations: MAX_ITERATIONS,
+                psi_deg,
+                sensitivity: Sensitivity::NONE,
+            });
         }
         _ => {
             return Err(format!(

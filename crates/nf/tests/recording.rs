@@ -180,6 +180,8 @@ fn every_bad_recording_names_the_line_and_the_problem() {
     let opt = "# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph,samples,rate_sd_dph,tilt_x_deg\n";
     for (row, what) in [
         ("0,1,0,1,12.5,0.1,0", "samples 12.5"),
+        // Beyond a count's range it was read as 4294967295 without a word.
+        ("0,1,0,1,1e23,0.1,0", "samples 100000000000000000000000 is not a count"),
         ("0,1,0,1,5,-0.1,0", "negative"),
         ("0,1,0,1,5,0.1,level", "tilt_x_deg 'level'"),
     ] {
@@ -568,4 +570,26 @@ fn some_of_the_quarter_columns_and_times_before_the_start_are_said() {
     );
     assert!(r.rows.iter().all(|r| r.quarters_dph.is_none()));
     assert_eq!(r.rows[0].t_s, -5.0);
+}
+
+#[test]
+fn a_leap_in_time_is_said_with_its_lines() {
+    let run = |last: &str| {
+        let mut text =
+            String::from("# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph\n");
+        for k in 0..7 {
+            text += &format!("{k},{},{},1\n", 2 * k, 45 * k);
+        }
+        Recording::parse(&format!("{text}7,{last},315,1\n")).unwrap()
+    };
+    let said: Vec<String> = run("1e300").warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(
+        said[0].starts_with(
+            "line 11: t_s leaps by 1.0000e300 s from line 10 (the median step between visits is 2 s; 1 such leap(s))"
+        ),
+        "{said:?}"
+    );
+    // A half turn's longer step says nothing.
+    assert!(run("15").warnings.is_empty());
 }
