@@ -32,13 +32,18 @@ fn without_replicates() -> analysis::Options {
 /// A sequential run turning 0.5 deg per position, 1 s dwells 1.2 s apart, white noise and a
 /// rate random walk, in the recording format.
 fn walk_run(n: usize, seed: u64) -> Recording {
+    run(n, seed, WALK_STEP, 0.5)
+}
+
+/// The same with a walk of `step` deg/h per position, turning `turn_deg` per position.
+fn run(n: usize, seed: u64, step: f64, turn_deg: f64) -> Recording {
     let mut rng = Rng::new(seed);
     let amplitude = 15.041_067 * LATITUDE_DEG.to_radians().cos();
     let mut rec = QuarteredRecording::new(LATITUDE_DEG, 1.0, 1000.0);
     let mut bias = 0.7;
     for i in 0..n {
-        let gamma = (i as f64 * 0.5) % 360.0;
-        bias += WALK_STEP * rng.gauss();
+        let gamma = (i as f64 * turn_deg) % 360.0;
+        bias += step * rng.gauss();
         let rate = amplitude * (gamma + PSI_DEG).to_radians().cos() + bias;
         let q: [f64; 4] = core::array::from_fn(|_| rate + QUARTER_SD * rng.gauss());
         rec.position(5.0 + 1.2 * i as f64, gamma, q);
@@ -73,6 +78,28 @@ fn a_long_random_walk_run_is_estimated_from_a_thinned_series_and_names_nothing()
     }
     let z = (z2 / runs as f64).sqrt();
     assert!(z < 1.6, "RMS error/sigma {z}");
+}
+
+/// On white noise past 2000 positions diagnose's final sigma is, as `nf fit`'s, the likeliest
+/// noise model's variance and the models' spread: the likelihood-weighted mean of their
+/// variances made it 2.2 times `nf fit`'s on an outside audit's white run of 5000 positions in
+/// one turn, where the azimuth is at the run's own frequency and the unlikely walks'
+/// variances are large.
+#[test]
+fn a_long_white_runs_final_sigma_stays_near_the_bound() {
+    let n = 5000;
+    let amplitude = 15.041_067 * LATITUDE_DEG.to_radians().cos();
+    let bound = QUARTER_SD / 2.0 * (2.0 / n as f64).sqrt() / amplitude * 180.0 / std::f64::consts::PI * 3600.0;
+    let mut over: Vec<f64> = (0..12)
+        .map(|seed| {
+            let d = diagnose(&run(n, 60 + seed, 0.0, 360.0 / n as f64), &Options::default()).unwrap();
+            d.final_.sigma_arcsec / bound
+        })
+        .collect();
+    over.sort_by(f64::total_cmp);
+    let median = (over[5] + over[6]) / 2.0;
+    println!("final sigma over the white bound: {over:.2?}");
+    assert!(median < 1.6, "median {median}");
 }
 
 #[test]
