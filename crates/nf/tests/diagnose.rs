@@ -250,6 +250,9 @@ fn a_second_harmonic_encoder_error_shows_in_the_third_harmonic_and_is_removed() 
     assert_eq!(f.parameters[0].value, 2.0);
     let amp = &f.parameters[1];
     assert!((amp.value - 600.0).abs() < 3.0 * amp.sigma.unwrap(), "{amp:?}");
+    // The phase of the reading's error, as the twin (and the instrument file) adds it.
+    let phase = f.parameters[2].value;
+    assert!(nf_model::angle::wrap_180(phase - 30.0).abs() < 10.0, "phase {phase}");
     let err = |a: f64| nf_model::angle::wrap_180(a - twin.instrument.psi_deg).abs() * 3600.0;
     assert!(
         err(d.final_.azimuth_deg) < 3.0 * d.final_.sigma_arcsec,

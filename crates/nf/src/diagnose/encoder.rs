@@ -1,6 +1,7 @@
 //! `encoder_error`: an angle error of harmonic k in the encoder. The rate at the true angle
 //! `gamma + e(gamma)` is, linearised, `-R sin(gamma + psi) e(gamma)`: harmonics k - 1 and
-//! k + 1 of the residuals. k = 2 makes a third harmonic and biases the azimuth.
+//! k + 1 of the residuals. k = 2 makes a third harmonic and biases the azimuth. Reported as
+//! the reading's error `-e(gamma) = amplitude sin(k gamma + phase)`, the instrument file's.
 
 use super::effect::{Effect, Law, Proposal, State, param};
 use super::kind::Kind;
@@ -54,7 +55,9 @@ impl Effect for EncoderError {
                                     a.hypot(b).to_degrees() * 3600.0,
                                     Some(l.sigma(i).to_degrees() * 3600.0),
                                 ),
-                                param("phase_deg", atan2_deg(a, b), None),
+                                // The reading's error, `-e`, as the instrument file and
+                                // the twin give it: amplitude sin(k gamma + phase).
+                                param("phase_deg", atan2_deg(-a, -b), None),
                             ]
                         },
                         shows,

@@ -164,7 +164,10 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let d = Data::new(rec);
     let white = Whitener::identity();
     let tilt = measure_tilt(&d, &white)?;
-    let tilt_warning = tilt.as_ref().and_then(|t| t.warning.clone());
+    let tilt_warning = match &tilt {
+        Some(t) => t.warning.clone(),
+        None => Some(untested_tilt(rec.latitude_deg)),
+    };
     let tilt_share = final_result::TiltShare {
         sigma_arcsec: tilt.as_ref().map_or(0.0, |t| t.sigma_psi_deg * 3600.0),
         sensitivity: tilt.as_ref().map_or(Sensitivity::NONE, |t| t.sensitivity),
@@ -263,6 +266,15 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         models: result.models,
         points,
     })
+}
+
+/// What a recording without inclinometer readings cannot show: a shaft tilt turns the Earth
+/// rate's vertical part into a first harmonic, moving the azimuth without a residual.
+fn untested_tilt(latitude_deg: f64) -> String {
+    format!(
+        "shaft_tilt: not tested, the recording has no inclinometer readings; a tilt eta moves the azimuth by up to eta tan(lat) ({:.1}\" per 0.01 deg here) and leaves no residual, so nothing here can show it",
+        36.0 * latitude_deg.to_radians().tan().abs()
+    )
 }
 
 /// The shaft tilt from the inclinometer columns, if the recording has them.

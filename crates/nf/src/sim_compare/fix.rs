@@ -56,11 +56,10 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
                 if file.encoder.error.len() >= 2 {
                     file.encoder.error.remove(0);
                 }
-                // The diagnosis's angle error is the twin's with the opposite sign.
                 file.encoder.error.push(EncoderError {
                     harmonic: h,
                     amplitude_arcsec: v("amplitude_arcsec"),
-                    phase_deg: (v("phase_deg") + 180.0 + 180.0).rem_euclid(360.0) - 180.0,
+                    phase_deg: v("phase_deg"),
                 });
             }
         }
