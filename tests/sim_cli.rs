@@ -69,6 +69,8 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
 #[test]
 fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
     let out = tmp("sat.csv");
+    // Written by this test's later step on an earlier run: gone, so it cannot pass the check.
+    let _ = std::fs::remove_file(&out);
     let largest = |err: &str, term: &str| {
         err.split(term)
             .nth(1)
@@ -86,6 +88,7 @@ fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
     assert_eq!(code, 0, "Q = {q}: {err}");
     // 95 deg/h of white noise in one sample at 1 kHz against +-50 deg/h.
     let sat = tmp("sat-noise.csv");
+    let _ = std::fs::remove_file(&sat);
     let (code, _, err) = nf(&["simulate", "--n", "12", "--arw", "0.05", "-o", &sat]);
     assert!(code == 2 && err.contains("cannot be read by the ADC"), "{code} {err}");
     assert!(!std::path::Path::new(&sat).exists(), "a recording was written");

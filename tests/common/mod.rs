@@ -12,14 +12,10 @@ pub fn nf(args: &[&str]) -> (i32, String, String) {
     )
 }
 
-/// A path for `name` in this test binary's directory under the target's `tmp`, with no file
-/// there yet: a file the last run left would pass a test that a command writes nothing
-/// (none of it is left in the system's temporary directory).
+/// A path for `name` in this test binary's directory under the target's `tmp` (each run
+/// writes over the last; none of it is left in the system's temporary directory).
 pub fn tmp(name: &str) -> String {
     let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(env!("CARGO_CRATE_NAME"));
     std::fs::create_dir_all(&d).unwrap();
-    let path = d.join(name);
-    // Absent is what is wanted: a failure to remove shows in the test that needs it so.
-    let _ = std::fs::remove_file(&path);
-    path.to_string_lossy().into_owned()
+    d.join(name).to_string_lossy().into_owned()
 }
