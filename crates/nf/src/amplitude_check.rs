@@ -4,6 +4,7 @@
 //! while the fit looks clean.
 
 use nf_model::EARTH_RATE_DPH;
+use nf_model::uncertainty;
 
 /// Relative departure of the amplitude from `WE cos(lat)` that is said, when it is also beyond
 /// [`SIGMAS`]: more than a gyro's scale factor is off when it is of any use here.
@@ -20,7 +21,7 @@ pub fn amplitude_off(
     latitude_deg: f64,
     tilt_left_in: bool,
 ) -> Option<String> {
-    let predicted = EARTH_RATE_DPH * latitude_deg.to_radians().cos();
+    let predicted = uncertainty::amplitude_dph(latitude_deg);
     let off = amplitude_dph - predicted;
     if off.abs() <= RELATIVE * predicted || off.abs() <= SIGMAS * sigma_amplitude_dph {
         return None;
@@ -49,10 +50,7 @@ pub fn amplitude_off(
 mod tests {
     use super::amplitude_off;
     use nf_model::EARTH_RATE_DPH;
-
-    fn amplitude(lat_deg: f64) -> f64 {
-        EARTH_RATE_DPH * lat_deg.to_radians().cos()
-    }
+    use nf_model::uncertainty::amplitude_dph as amplitude;
 
     #[test]
     fn a_recording_of_latitude_60_labelled_43_8_names_60() {

@@ -615,6 +615,9 @@ impl NoiseFit {
     }
 }
 
+/// First-harmonic amplitudes, over `WE cos(lat)`, that can be the Earth rate's.
+pub const EARTH_RATE_RATIOS: std::ops::RangeInclusive<f64> = 0.5..=1.5;
+
 /// Why the Earth rate is not resolved, if it is not: the azimuth's sigma is tens of degrees,
 /// or the amplitude is inconsistent with `WE cos(lat)` (`predicted_dph`).
 pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, predicted_dph: f64) -> Option<String> {
@@ -625,7 +628,7 @@ pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, 
     }
     let ratio = amplitude_dph / predicted_dph;
     let off = (amplitude_dph - predicted_dph).abs();
-    if !(0.5..=1.5).contains(&ratio) && off > 3.0 * sigma_amplitude_dph {
+    if !EARTH_RATE_RATIOS.contains(&ratio) && off > 3.0 * sigma_amplitude_dph {
         let times = if (0.01..100.0).contains(&ratio) {
             format!("{ratio:.2}")
         } else {

@@ -8,13 +8,14 @@
 
 use crate::analysis::{TiltMethod, exact_tilt_correction};
 use crate::linfit;
+use crate::noise_fit::EARTH_RATE_RATIOS;
 use crate::recording::Recording;
 use crate::stats::f_sf;
 use crate::tilt_sense::{self, AxisReading};
-use nf_model::EARTH_RATE_DPH;
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
 use nf_model::level::ShaftTilt;
+use nf_model::uncertainty::amplitude_dph;
 
 /// Tilt (deg) above which a requested first-order correction is warned against.
 const FIRST_ORDER_MAX_DEG: f64 = 1.0;
@@ -84,11 +85,11 @@ impl Sensitivity {
     }
 }
 
-/// What a tilt the readings show (the circle against none at [`LEFT_IN_P`]) does when it is
-/// left uncorrected: the azimuth moves by up to `eta tan(lat)`, which no sigma holds.
-fn left_in(c: &Circle, lat_deg: f64) -> Option<String> {
-    let s = &c.shaft;
-    (c.test().p < LEFT_IN_P).then(|| {
+/// What a tilt the readings show (the circle against none, `test`, at [`LEFT_IN_P`]) does
+/// when it is left uncorrected: the azimuth moves by up to `eta tan(lat)`, which no sigma
+/// holds.
+fn left_in(s: &ShaftTilt<f64>, test: CircleTest, lat_deg: f64) -> Option<String> {
+    (test.p < LEFT_IN_P).then(|| {
         format!(
             "the inclinometer shows the shaft tilted {:.4} deg towards {:.1} deg, left uncorrected: it moves the azimuth by up to eta tan(lat) = {:.1}\", which the sigma does not hold (--tilt auto corrects it)",
             s.tilt_deg,
@@ -256,10 +257,11 @@ pub fn correct(
     match method {
         TiltMethod::None => {
             let c = measured();
+            let circle_test = c.as_ref().map(Circle::test);
             Ok(Tilt {
                 shaft: c.as_ref().map(|c| c.shaft),
-                circle_test: c.as_ref().map(Circle::test),
-                warning: c.as_ref().and_then(|c| left_in(c, lat)),
+                circle_test,
+                warning: c.zip(circle_test).and_then(|(c, t)| left_in(&c.shaft, t, lat)),
                 ..none
             })
         }
@@ -320,7 +322,7 @@ fn solve(
     let (mut psi, mut amp) = fit(&corr)?;
     // No Earth rate to scale the exact correction by (constant rates, a dead gyro): where
     // Newton then fails, the fit says it is not resolved, and first order is as good as any.
-    let no_earth_rate = !(0.5..=1.5).contains(&(amp / (EARTH_RATE_DPH * lat.to_radians().cos())));
+    let no_earth_rate = !EARTH_RATE_RATIOS.contains(&(amp / amplitude_dph(lat)));
     let first_order = (corr, psi, amp);
     // The azimuth and the amplitude are a fixed point of "correct with them, then fit". At
     // high latitude and large tilt the map moves nearly as fast as its arguments (its slope is
