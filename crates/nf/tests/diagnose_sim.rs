@@ -140,6 +140,16 @@ fn each_effect_left_out_of_the_simulation_is_named_and_put_back() {
             "{name}: fixed {fixed}, truth {truth}"
         );
         assert!(s.before.mismatches() >= 1, "{name}: no mismatch before");
+        // The site is the file's: what the fitted effects miss does not move it.
+        assert_eq!(
+            s.fixed.file.site.azimuth_deg,
+            base().site.azimuth_deg,
+            "{name}: {:?}",
+            s.fixed.changes
+        );
+        if c.kind != Kind::ScaleFactor {
+            assert_eq!(s.fixed.file.gyro.scale, 1.0, "{name}: {:?}", s.fixed.changes);
+        }
         assert!(
             s.fixed.after.mismatches() <= 1,
             "{name}: {} mismatches after the fix: {:?}",
@@ -317,6 +327,58 @@ fn the_recording_s_plan_goes_into_the_fixed_file() {
         s.fixed.changes
     );
     assert!(s.fixed.after.mismatches() <= 1);
+}
+
+/// Mean time from one dwell to the next, s.
+fn pace_s(rec: &Recording) -> f64 {
+    let t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
+    (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64
+}
+
+/// The recording's pace, from a longer settling or a faster motor: the fixed file's run takes
+/// its time, which the drift and the wander act over.
+#[test]
+fn the_recording_s_pace_goes_into_the_fixed_file() {
+    let mut slow = base();
+    slow.run.settle_s = 1.2;
+    let mut fast = base();
+    fast.run.positions = 24;
+    fast.run.order = "opposite-pairs".into();
+    for m in [&mut fast.motor.max_sps, &mut fast.motor.start_sps] {
+        *m *= 8.0;
+    }
+    fast.motor.accel_sps2 *= 64.0;
+    for (with, faster) in [(slow, false), (fast, true)] {
+        let rec = recording(&with);
+        let s = against(&rec, &base());
+        let fixed = &s.fixed.file;
+        let again = pace_s(&recording(fixed));
+        assert!(
+            (again / pace_s(&rec) - 1.0).abs() < 0.01,
+            "{again} against {}: {:?}",
+            pace_s(&rec),
+            s.fixed.changes
+        );
+        assert_eq!(
+            fixed.motor.max_sps > base().motor.max_sps,
+            faster,
+            "{:?}",
+            s.fixed.changes
+        );
+    }
+}
+
+/// Each inclinometer's offset is its own: a Y offset the file has wrong is found and moved.
+#[test]
+fn the_y_inclinometer_s_offset_goes_into_the_fixed_file() {
+    let mut with = base();
+    with.inclinometer.offset_y_deg = 0.05;
+    let s = against(&recording(&with), &base());
+    let line = s.before.line(sim_compare::Quantity::TiltOffsetY).unwrap();
+    assert!(line.mismatch, "{line:?}");
+    let y = s.fixed.file.inclinometer.offset_y_deg;
+    assert!((y - 0.05).abs() < 1e-3, "{y}: {:?}", s.fixed.changes);
+    assert_eq!(s.fixed.file.inclinometer.offset_x_deg, base().inclinometer.offset_x_deg);
 }
 
 #[test]

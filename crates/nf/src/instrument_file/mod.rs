@@ -181,7 +181,7 @@ impl InstrumentFile {
         })
     }
 
-    fn order(&self) -> Result<Order, nf_model::order::OrderError> {
+    pub(crate) fn order(&self) -> Result<Order, nf_model::order::OrderError> {
         Order::parse(&self.run.order)
     }
 

@@ -156,9 +156,15 @@ const SAMPLES_AGREE: f64 = 1.5;
 /// The angle random walk of `f` (the recording's estimate put in) from the samples' spread:
 /// `before`'s replays have `file`'s white level, and the spread of thousands of samples in a
 /// dwell is almost all white noise, which it measures far better than the dwell means do.
+/// A file without white noise gives no ratio: the level is then the samples' own (a sample
+/// the mean over `1 / rate` s has sd `60 N sqrt(rate)` deg/h).
 fn white_from_samples(f: &mut InstrumentFile, file: &InstrumentFile, cmp: &Comparison) -> Option<String> {
     let l = cmp.line(Quantity::SampleSd)?;
-    let from_samples = file.noise.arw_deg_rth * l.recording / l.simulated;
+    let from_samples = if file.noise.arw_deg_rth > 0.0 && l.simulated > 0.0 {
+        file.noise.arw_deg_rth * l.recording / l.simulated
+    } else {
+        l.recording / (60.0 * f64::from(f.run.sample_rate_hz).sqrt())
+    };
     let estimate = f.noise.arw_deg_rth;
     if !(from_samples > 0.0 && estimate > 0.0) || (from_samples / estimate).ln().abs() > SAMPLES_AGREE.ln() {
         return None;
@@ -210,8 +216,12 @@ fn temperature(f: &mut InstrumentFile, rec: &Recording, origin_s: f64) -> Option
     ))
 }
 
+/// How far (s) the file's mean spacing of dwells may be from the recording's before its
+/// settling time is changed: the firmware's times are whole milliseconds.
+const SAME_PACE_S: f64 = 0.005;
+
 /// The recording's plan where the file's differs: positions and order (when its angles lie
-/// on an equal grid), dwell and sample rate.
+/// on an equal grid), dwell, pace (the settling time) and sample rate.
 fn run_plan(f: &mut InstrumentFile, rec: &Recording, dwell_s: f64) -> Vec<String> {
     let mut notes = Vec::new();
     if let Some((n, order)) = plan::infer(rec)
@@ -229,6 +239,25 @@ fn run_plan(f: &mut InstrumentFile, rec: &Recording, dwell_s: f64) -> Vec<String
             f.run.dwell_s
         ));
         f.run.dwell_s = dwell_s.clamp(0.01, 600.0);
+    }
+    if let Some(p) = plan::pace(rec, f).filter(|p| (p.recorded_s - p.planned_s).abs() > SAME_PACE_S) {
+        let motor = if p.motor_factor == 1.0 {
+            String::new()
+        } else {
+            let m = &mut f.motor;
+            m.start_sps = (m.start_sps * p.motor_factor).min(1e6);
+            m.max_sps = (m.max_sps * p.motor_factor).min(1e6);
+            m.accel_sps2 = (m.accel_sps2 * p.motor_factor * p.motor_factor).min(1e8);
+            format!(
+                ", and the motor {:.3} times as fast (no settling time keeps the pace with the file's)",
+                p.motor_factor
+            )
+        };
+        notes.push(format!(
+            "run: settle {:.3} s (the file had {} s){motor}: the recording's dwells are {:.3} s apart on average, the file's run's were {:.3} s",
+            p.settle_s, f.run.settle_s, p.recorded_s, p.planned_s
+        ));
+        f.run.settle_s = p.settle_s;
     }
     if let Some(r) = plan::sample_rate_hz(rec).filter(|r| *r != f.run.sample_rate_hz) {
         notes.push(format!(
@@ -315,30 +344,62 @@ pub fn noise(
     (f, notes)
 }
 
-/// `file` with the Eq. 7 numbers (bias, amplitude, azimuth) and the inclinometer's offset moved
-/// onto the recording's where `cmp`, the comparison with replays of `file` under its final
-/// noise, still finds them apart: a coloured noise the fix put in widens their spread, and
-/// one run's wander is no reason to move the site.
-pub fn moments(file: &InstrumentFile, cmp: &Comparison) -> (InstrumentFile, Vec<String>) {
+/// How many of the recording's final sigmas its azimuth must lie from the file's before the
+/// fix moves the site: the replays' Eq. 7 azimuth also differs from the recording's by what
+/// the fitted effects miss (a jump fitted 1 sigma short moved the site 86" in an outside
+/// audit), which the comparison's spread, of replays with the effects exact, does not hold.
+const SITE_SIGMAS: f64 = 3.0;
+
+/// `file` with the bias, the site azimuth and the inclinometer's offsets moved onto the
+/// recording's where `cmp`, the comparison with replays of `file` under its final noise,
+/// still finds them apart; and the quantities moved. A coloured noise the fix put in widens
+/// their spread, and one run's wander is no reason to move the site: the azimuth moves only
+/// where the recording's final azimuth (`diag`, with its sigma) is off the file's too, and
+/// the scale only as the scale factor the diagnosis names.
+pub fn moments(
+    file: &InstrumentFile,
+    cmp: &Comparison,
+    diag: &Diagnosis,
+) -> (InstrumentFile, Vec<String>, Vec<Quantity>) {
     let mut f = file.clone();
     let mut notes = Vec::new();
+    let mut moved = Vec::new();
     let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
     if let Some((r, s)) = off(Quantity::Bias) {
         f.gyro.bias_dph = (f.gyro.bias_dph + r - s).clamp(-50.0, 50.0);
         notes.push(format!("bias: moved by {:+.5} deg/h", r - s));
-    }
-    if let Some((r, s)) = off(Quantity::Amplitude).filter(|(_, s)| *s > 0.0) {
-        f.gyro.scale = (f.gyro.scale * r / s).clamp(0.1, 10.0);
-        notes.push(format!("scale: times {:.6} (the amplitude)", r / s));
+        moved.push(Quantity::Bias);
     }
     if let Some((r, s)) = off(Quantity::Azimuth) {
-        let a = f.site.azimuth_deg + r - s;
-        f.site.azimuth_deg = (a + 180.0).rem_euclid(360.0) - 180.0;
-        notes.push(format!("azimuth: moved by {:+.5} deg", r - s));
+        let fin = &diag.final_;
+        let apart = (fin.azimuth_deg - f.site.azimuth_deg + 180.0).rem_euclid(360.0) - 180.0;
+        if diag.unresolved.is_none() && apart.abs() * 3600.0 > SITE_SIGMAS * fin.sigma_arcsec {
+            f.site.azimuth_deg = (fin.azimuth_deg + 180.0).rem_euclid(360.0) - 180.0;
+            notes.push(format!(
+                "azimuth: moved by {apart:+.5} deg to the recording's final ({:.5} deg +- {:.2}\")",
+                fin.azimuth_deg, fin.sigma_arcsec
+            ));
+            moved.push(Quantity::Azimuth);
+        } else {
+            notes.push(format!(
+                "azimuth: the site left as it is: Eq. 7's azimuth differs from the replays' by {:+.5} deg, but the recording's final azimuth is {:.1} of its sigmas from the file's ({:.5} deg +- {:.2}\"): what the fitted effects miss, not the site",
+                r - s,
+                apart.abs() * 3600.0 / fin.sigma_arcsec.max(f64::MIN_POSITIVE),
+                fin.azimuth_deg,
+                fin.sigma_arcsec
+            ));
+        }
     }
-    if let Some((r, s)) = off(Quantity::TiltOffset) {
-        f.inclinometer.offset_x_deg = (f.inclinometer.offset_x_deg + r - s).clamp(-10.0, 10.0);
-        notes.push(format!("inclinometer X offset: moved by {:+.5} deg", r - s));
+    let axes = [
+        (Quantity::TiltOffset, "X", &mut f.inclinometer.offset_x_deg),
+        (Quantity::TiltOffsetY, "Y", &mut f.inclinometer.offset_y_deg),
+    ];
+    for (q, axis, o) in axes {
+        if let Some((r, s)) = off(q) {
+            *o = (*o + r - s).clamp(-10.0, 10.0);
+            notes.push(format!("inclinometer {axis} offset: moved by {:+.5} deg", r - s));
+            moved.push(q);
+        }
     }
-    (f, notes)
+    (f, notes, moved)
 }

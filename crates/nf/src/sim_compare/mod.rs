@@ -74,8 +74,8 @@ fn residuals(rec: &Recording) -> Residuals {
 pub struct Fixed {
     pub file: InstrumentFile,
     pub changes: Vec<String>,
-    /// Quantities moved onto the recording's own value ([`Quantity::set_by_fix`]): they agree
-    /// after the fix by construction.
+    /// Quantities moved onto the recording's own value (`fix::moments`): they agree after
+    /// the fix by construction.
     pub set: Vec<Quantity>,
     pub after: Comparison,
     pub places: Where,
@@ -183,14 +183,8 @@ impl Target<'_> {
         changes.extend(noise);
         let (f2, tails) = sample_tails::fix(&f2, &cmp2, rec.rows.len());
         changes.extend(tails);
-        let (f3, moved) = fix::moments(&f2, &cmp2);
+        let (f3, moved, set) = fix::moments(&f2, &cmp2, self.diag);
         changes.extend(moved);
-        let set = cmp2
-            .lines
-            .iter()
-            .filter(|l| l.mismatch && l.quantity.set_by_fix())
-            .map(|l| l.quantity)
-            .collect();
         let sims2 = replays(&f3, rec, opt.replays, run_origin_s(&f3));
         Fixed {
             file: f3,

@@ -137,6 +137,11 @@ fn simulated(
     })
 }
 
+/// The size of an effect whose compared parameter is `v`: a scale of 1 is none.
+fn size(kind: Kind, v: f64) -> f64 {
+    if kind == Kind::ScaleFactor { v - 1.0 } else { v }
+}
+
 /// Whether `found` and the file's `sim` agree: within 3 sigma, or the profile range of a
 /// noise term, or 20 % where the diagnosis gives no uncertainty.
 fn agrees(kind: Kind, p: &Param, found: &[Param], sim: f64) -> bool {
@@ -157,7 +162,7 @@ fn agrees(kind: Kind, p: &Param, found: &[Param], sim: f64) -> bool {
 /// significant: a file without the term lacks it, whatever range of sizes the finding's
 /// profile allows (a noise term's can reach down to none).
 fn verdict(kind: Kind, p: &Param, found: &[Param], sim: f64) -> Verdict {
-    if sim == 0.0 {
+    if size(kind, sim) == 0.0 {
         Verdict::Missing
     } else if agrees(kind, p, found, sim) {
         Verdict::Modelled
@@ -280,7 +285,8 @@ pub fn judge(
             continue;
         }
         // A finding of the replay that the file has none of is the replay's false alarm.
-        let Some((name, sim)) = simulated(f.effect, &f.parameters, file, rec, dwell_s, origin_s).filter(|s| s.1 != 0.0)
+        let Some((name, sim)) =
+            simulated(f.effect, &f.parameters, file, rec, dwell_s, origin_s).filter(|s| size(f.effect, s.1) != 0.0)
         else {
             continue;
         };
@@ -292,7 +298,7 @@ pub fn judge(
         let colour = f.effect.is_noise() && f.effect != Kind::HeavyTails;
         if colour
             || before.mismatches() == 0
-            || sigma.is_some_and(|s| sim.abs() < SHOWN_SIGMAS * s)
+            || sigma.is_some_and(|s| size(f.effect, sim).abs() < SHOWN_SIGMAS * s)
             || shown_otherwise(diag, f.effect)
         {
             continue;

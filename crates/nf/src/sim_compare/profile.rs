@@ -36,18 +36,11 @@ pub enum Quantity {
     TiltCircle,
     /// Mean of the X inclinometer (its offset), deg.
     TiltOffset,
+    /// Mean of the Y inclinometer (its offset), deg.
+    TiltOffsetY,
 }
 
 impl Quantity {
-    /// Quantities `--fix` moves onto the recording's own value where they differ: after the
-    /// fix they agree by construction, not as evidence that the physics is in.
-    pub fn set_by_fix(self) -> bool {
-        matches!(
-            self,
-            Quantity::Bias | Quantity::Amplitude | Quantity::Azimuth | Quantity::TiltOffset
-        )
-    }
-
     /// The noise's scatters (the residual's, the Allan deviations, the quarters' and the
     /// samples'): what the fix's noise acts on. Judged on the log scale: they are positive
     /// and spread by a factor, and a replay that met a long burst scatters far more than the
@@ -68,7 +61,7 @@ impl Quantity {
     /// The smallest difference that counts, for a simulation without noise in it.
     pub fn resolution(self) -> f64 {
         match self {
-            Quantity::TiltCircle | Quantity::TiltOffset => 1e-6,
+            Quantity::TiltCircle | Quantity::TiltOffset | Quantity::TiltOffsetY => 1e-6,
             Quantity::Azimuth => 1e-7,
             _ => 1e-9,
         }
@@ -88,7 +81,8 @@ impl fmt::Display for Quantity {
             Quantity::SampleSd => write!(f, "sample_sd_dph"),
             Quantity::SampleKurtosis => write!(f, "sample_excess_kurtosis"),
             Quantity::TiltCircle => write!(f, "tilt_circle_deg"),
-            Quantity::TiltOffset => write!(f, "tilt_offset_deg"),
+            Quantity::TiltOffset => write!(f, "tilt_offset_x_deg"),
+            Quantity::TiltOffsetY => write!(f, "tilt_offset_y_deg"),
         }
     }
 }
@@ -215,13 +209,17 @@ pub fn profile(rec: &Recording) -> Option<Profile> {
     if let Some(k) = excess_kurtosis(&spreads) {
         p.push((Quantity::SampleKurtosis, k));
     }
-    let tilt: Vec<(f64, f64)> = rows
-        .iter()
-        .filter_map(|r| Some((r.encoder_deg, r.tilt_x_deg?)))
-        .collect();
-    if let Some((amp, offset)) = (tilt.len() >= 4).then(|| circle(&tilt)).flatten() {
+    let read = |axis: fn(&crate::recording::Row) -> Option<f64>| {
+        let tilt: Vec<(f64, f64)> = rows.iter().filter_map(|r| Some((r.encoder_deg, axis(r)?))).collect();
+        (tilt.len() >= 4).then(|| circle(&tilt)).flatten()
+    };
+    if let Some((amp, offset)) = read(|r| r.tilt_x_deg) {
         p.push((Quantity::TiltCircle, amp));
         p.push((Quantity::TiltOffset, offset));
+    }
+    // The Y axis reads the same circle a quarter turn on: only its offset is its own.
+    if let Some((_, offset)) = read(|r| r.tilt_y_deg) {
+        p.push((Quantity::TiltOffsetY, offset));
     }
     Some(p)
 }
