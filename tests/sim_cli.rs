@@ -68,9 +68,10 @@ fn a_saved_instrument_file_simulates_the_same_recording_as_its_flags() {
 /// largest value of it that fits, and the largest fits indeed.
 #[test]
 fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
-    let out = tmp("sat.csv");
+    let (out, cfg) = (tmp("sat.csv"), tmp("sat.toml"));
     // Written by this test's later step on an earlier run: gone, so it cannot pass the check.
     let _ = std::fs::remove_file(&out);
+    let _ = std::fs::remove_file(&cfg);
     let largest = |err: &str, term: &str| {
         err.split(term)
             .nth(1)
@@ -78,10 +79,21 @@ fn a_saturated_gyro_adc_is_explained_by_the_term_that_saturates_it() {
             .unwrap_or_else(|| panic!("no largest value after '{term}' in: {err}"))
             .to_string()
     };
-    let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", "0.5", "-o", &out]);
+    let (code, _, err) = nf(&[
+        "simulate",
+        "--n",
+        "12",
+        "--quantization",
+        "0.5",
+        "-o",
+        &out,
+        "--save-config",
+        &cfg,
+    ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cannot be read by the ADC"), "{err}");
     assert!(!std::path::Path::new(&out).exists(), "a recording was written");
+    assert!(!std::path::Path::new(&cfg).exists(), "an instrument file was written");
     assert!(!err.contains("white noise of at most"), "{err}");
     let q = largest(&err, "a quantisation Q of at most ");
     let (code, _, err) = nf(&["simulate", "--n", "12", "--quantization", &q, "-o", &out]);

@@ -212,9 +212,6 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     if let Some(seed) = a.seed {
         file.seed = seed;
     }
-    if let Some(p) = &a.save_config {
-        write_out(&Some(p.clone()), &file.write(&[]))?;
-    }
     let twin = file.twin();
     let budget = AdcBudget::of(&twin);
     if budget.always_saturates() || budget.noise_overflows() {
@@ -222,6 +219,10 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             format!("this gyro cannot be read by the ADC: {}", budget.explain()),
             2,
         ));
+    }
+    // Only a file that simulates is written.
+    if let Some(p) = &a.save_config {
+        write_out(&Some(p.clone()), &file.write(&[]))?;
     }
     let run = file.run_config();
     if let Some(u) = run.order.uneven(run.positions) {
