@@ -154,11 +154,11 @@ fn every_numeric_option_has_a_checked_range() {
 fn an_order_of_fewer_than_three_positions_is_refused_before_the_run() {
     refused(
         &["simulate", "--n", "8", "--order", "0,4,0,4"],
-        "fewer than 3 positions listed",
+        "fewer than 3 different positions listed",
     );
     refused(
         &["simulate", "--n", "8", "--order", "0,0,0"],
-        "fewer than 3 positions listed",
+        "fewer than 3 different positions listed",
     );
     let (code, _, err) = nf(&["simulate", "--n", "8", "--order", "0,4,1"]);
     assert_eq!(code, 0, "{err}");
@@ -188,7 +188,7 @@ fn the_main_run_checks_its_options() {
         (["--tilt", "nan"], "--tilt"),
         (["--target-arcsec", "-1"], "--target-arcsec"),
         (["--order", "spiral"], "--order"),
-        (["--order", "0,36,0,36"], "fewer than 3 positions listed"),
+        (["--order", "0,36,0,36"], "fewer than 3 different positions listed"),
     ] {
         let (code, err) = main_run(&args);
         assert_eq!(code, 2, "{args:?}: {err}");

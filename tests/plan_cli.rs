@@ -143,6 +143,14 @@ fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
         out.contains("target 3\": not reachable with this gyro and motor in runs up to 400 s (--max-time)"),
         "{out}"
     );
+    // At the most positions and the longest run: a longer dwell still gains, so the time binds.
+    let out = text(["--bias-instability", "0.004"], &["--target", "2.5"]);
+    assert!(
+        out.contains(
+            "target 2.5\": not reachable with this gyro and motor in runs up to 14400 s (--max-time) at 720 positions"
+        ),
+        "{out}"
+    );
     let out = text(["--rrw", "0.3"], &["--target", "5"]);
     assert!(
         out.contains("target 5\": not reachable with this gyro and motor in runs of up to 720 positions, the most a plan takes: the best is opposite-pairs order, n = 720"),

@@ -126,7 +126,7 @@ impl OrderError {
             }
             OrderError::Empty => w.write_str("the listed order is empty"),
             OrderError::OddPositions => w.write_str("opposite pairs need an even number of positions"),
-            OrderError::FewPositions => w.write_str("fewer than 3 positions listed"),
+            OrderError::FewPositions => w.write_str("fewer than 3 different positions listed"),
         }
     }
 }
@@ -488,7 +488,10 @@ mod tests {
             "entry 3 of the list, position 400, is not below n = 72"
         );
         assert_eq!(says(OrderError::Empty), "the listed order is empty");
-        assert_eq!(says(OrderError::FewPositions), "fewer than 3 positions listed");
+        assert_eq!(
+            says(OrderError::FewPositions),
+            "fewer than 3 different positions listed"
+        );
         assert_eq!(
             says(OrderError::OddPositions),
             "opposite pairs need an even number of positions"

@@ -111,14 +111,20 @@ fn unreachable(p: &plan_noise::Plan, max_time_s: f64) -> String {
         return "in any run searched".into();
     };
     let most = Space::default().positions.into_iter().max().unwrap_or(0);
-    if floor.n >= most {
+    // A longer dwell goes on gaining where the time allows it: the time limit binds first.
+    if floor.time_s > 0.9 * max_time_s {
+        let also = if floor.n >= most {
+            format!(" at {most} positions, the most a plan takes")
+        } else {
+            String::new()
+        };
         format!(
-            "in runs of up to {most} positions, the most a plan takes: the best is {}",
+            "in runs up to {max_time_s:.0} s (--max-time){also}: the best is {}",
             describe(floor)
         )
-    } else if floor.time_s > 0.9 * max_time_s {
+    } else if floor.n >= most {
         format!(
-            "in runs up to {max_time_s:.0} s (--max-time): the best is {}",
+            "in runs of up to {most} positions, the most a plan takes: the best is {}",
             describe(floor)
         )
     } else {

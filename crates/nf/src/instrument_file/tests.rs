@@ -185,7 +185,7 @@ fn bad_values_are_named_with_their_line() {
         (
             "[run]\npositions = 8\norder = \"0,4,0,4\"\n",
             4,
-            "fewer than 3 positions listed",
+            "fewer than 3 different positions listed",
         ),
         (
             "[[disturbance]]\nfrom_s = 5\nto_s = 4\nsize_dph = 1\n",
