@@ -100,8 +100,15 @@ fn target(out: &mut impl Write, a: &PlanArgs, p: &Planned, t: f64, search: &plan
         writeln!(out, "  fastest {}", describe(c))?;
     }
     if search.fastest.is_some() {
+        // A longer dwell than the search's can still gain in an order short of the target.
+        let longest = plan_noise::Space::default().dwells_s.into_iter().fold(0.0, f64::max);
         for c in &search.short_of {
-            writeln!(out, "  never reaches it: {} (its best)", describe(c))?;
+            writeln!(
+                out,
+                "  never reaches it: {} (its best with dwells up to {longest} s in runs up to {:.0} s)",
+                describe(c),
+                a.max_time
+            )?;
         }
     }
     if let Some(s) = p.allowance {
