@@ -144,11 +144,19 @@ fn diagnose_against_a_simulation_names_what_it_lacks_and_the_fix_reproduces_the_
         code == 2 && out.is_empty() && err.contains("does not exist"),
         "{code} {err}"
     );
-    let svg = tmp("sim.svg");
+    let (svg, html) = (tmp("sim.svg"), tmp("sim.html"));
     let (code, out, err) = nf(&[
-        "diagnose", &rec, "--sim", &base, "--fix", &fixed, "--json", "--plot", &svg,
+        "diagnose", &rec, "--sim", &base, "--fix", &fixed, "--json", "--plot", &svg, "--report", &html,
     ]);
     assert_eq!(code, 0, "{err}");
+    // The report's headline gives the simulation's verdict too.
+    let page = std::fs::read_to_string(&html).unwrap();
+    let headline = page.split("<p id=\"headline\">").nth(1).unwrap_or_default();
+    let headline = headline.split("</p>").next().unwrap_or_default();
+    assert!(
+        headline.contains("against the simulation: to change") && headline.contains("bias_drift"),
+        "{headline}"
+    );
     let j: serde_json::Value = serde_json::from_str(&out).unwrap();
     let s = &j["simulation"];
     let physics = s["physics"].as_array().unwrap();

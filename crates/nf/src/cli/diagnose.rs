@@ -170,7 +170,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
                 d.final_.sigma_arcsec
             ),
         };
-        let headline = format!(
+        let mut headline = format!(
             "{result}; findings: {}",
             if names.is_empty() {
                 "none".to_string()
@@ -178,6 +178,24 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
                 names.join(", ")
             }
         );
+        if let Some(s) = &sim {
+            let change: Vec<&str> = s
+                .physics
+                .iter()
+                .filter(|p| p.verdict.needs_change())
+                .map(|p| p.kind.name())
+                .collect();
+            headline += &format!(
+                "; against the simulation: {}; {} quantities apart before the fix, {} after",
+                if change.is_empty() {
+                    "nothing it lacks".to_string()
+                } else {
+                    format!("to change {}", change.join(", "))
+                },
+                s.before.mismatches(),
+                s.fixed.after.mismatches()
+            );
+        }
         let page = Page {
             title: &format!("nf diagnose: {path}"),
             headline: &headline,
