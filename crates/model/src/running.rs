@@ -108,8 +108,8 @@ fn rotate<F: Float>(a: &mut [F], b: &mut [F], from: usize) {
 }
 
 /// `e^-x` for `x >= 0`: halved below 1/2, a Taylor series there, squared back (within
-/// `1e-6 (1 + x)` of itself in `f32`, the squarings doubling the rounding). libm's `expf` is 420 bytes of
-/// the firmware's flash, which the filter's decays were its only use of.
+/// `1e-6 (1 + x)` of itself in `f32`, the squarings doubling the rounding). libm's `expf`
+/// is 420 bytes of the firmware's flash, which the filter's decays were its only use of.
 fn exp_neg<F: Float>(x: F) -> F {
     if x >= c(88.0) {
         return F::zero();

@@ -244,10 +244,7 @@ fn run_plan(f: &mut InstrumentFile, rec: &Recording, dwell_s: f64) -> Vec<String
         let motor = if p.motor_factor == 1.0 {
             String::new()
         } else {
-            let m = &mut f.motor;
-            m.start_sps = (m.start_sps * p.motor_factor).min(1e6);
-            m.max_sps = (m.max_sps * p.motor_factor).min(1e6);
-            m.accel_sps2 = (m.accel_sps2 * p.motor_factor * p.motor_factor).min(1e8);
+            f.motor = f.motor.sped_up(p.motor_factor);
             format!(
                 ", and the motor {:.3} times as fast (no settling time keeps the pace with the file's)",
                 p.motor_factor

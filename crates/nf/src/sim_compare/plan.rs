@@ -65,8 +65,7 @@ fn mean_spacing(times: &[f64]) -> Option<f64> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pace {
     pub settle_s: f64,
-    /// The motor's speeds times this, its acceleration times its square: every move
-    /// takes 1 / `motor_factor` of its time.
+    /// The motor sped up by this ([`crate::instrument_file::Motor::sped_up`]).
     pub motor_factor: f64,
     /// Mean time from one dwell to the next in the recording, and in the file's run as it
     /// was, s.
@@ -74,7 +73,7 @@ pub struct Pace {
     pub planned_s: f64,
 }
 
-/// The largest speed-up of the motor a fix writes (the file's bounds allow 1e6 steps/s).
+/// The largest speed-up of the motor a fix writes.
 const FASTEST: f64 = 100.0;
 
 /// The settling time (s) and the motor's speed with which `file`'s run, its positions,
@@ -86,14 +85,8 @@ pub fn pace(rec: &Recording, file: &InstrumentFile) -> Option<Pace> {
     let order = file.order().ok()?;
     let n = usize::from(file.run.positions);
     let planned = |settle_s: f64, factor: f64| {
-        let m = file.motor.config();
         let timing = Timing {
-            motor: nf_instrument::stepper::Config {
-                start_sps: m.start_sps * factor as f32,
-                max_sps: m.max_sps * factor as f32,
-                accel_sps2: m.accel_sps2 * (factor * factor) as f32,
-                ..m
-            },
+            motor: file.motor.sped_up(factor).config(),
             settle_s,
             dwell_s: file.run.dwell_s,
             ..Timing::default()
