@@ -8,6 +8,7 @@ pub mod allan_removed;
 pub mod allan_source;
 mod amplitude_check;
 pub mod analysis;
+pub(crate) mod cores;
 pub mod diagnose;
 pub mod diagnose_eval;
 pub mod far_off;

@@ -88,17 +88,8 @@ pub fn seed_of(y: &[f64]) -> u64 {
 /// `one` of every replicate `0..replicates`, each with its own generator seeded from `seed`,
 /// on every core; the replicates that give nothing are left out.
 pub fn run<T: Send>(replicates: usize, seed: u64, one: impl Fn(&mut Rng) -> Option<T> + Sync) -> Vec<T> {
-    let one = &one;
-    let draw = move |b: usize| one(&mut Rng::new(seed ^ (b as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)));
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |c| c.get())
-        .min(replicates.max(1));
-    std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads)
-            .map(|w| s.spawn(move || (w..replicates).step_by(threads).filter_map(draw).collect::<Vec<_>>()))
-            .collect();
-        workers.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect()
-    })
+    let draw = |b: usize| one(&mut Rng::new(seed ^ (b as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)));
+    crate::cores::each(replicates, draw).into_iter().flatten().collect()
 }
 
 #[cfg(test)]

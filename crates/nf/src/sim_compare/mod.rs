@@ -125,24 +125,7 @@ struct Replays {
 /// `origin_s`: where the file's run starts on its clock ([`run_origin_s`]). Each replay is
 /// a whole twin run: they are spread over the cores.
 fn replays(file: &InstrumentFile, rec: &Recording, n: usize, origin: f64) -> Replays {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |c| c.get())
-        .min(n.max(1));
-    let mut numbered: Vec<(usize, Recording)> = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads)
-            .map(|w| {
-                s.spawn(move || {
-                    (w..n)
-                        .step_by(threads)
-                        .map(|i| (i, replay(file, rec, seed(file, rec, i), origin)))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        workers.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect()
-    });
-    numbered.sort_by_key(|(i, _)| *i);
-    let all: Vec<Recording> = numbered.into_iter().map(|(_, r)| r).collect();
+    let all = crate::cores::each(n, |i| replay(file, rec, seed(file, rec, i), origin));
     let mut first: Vec<Recording> = all.iter().take(DIAGNOSED).cloned().collect();
     if first.is_empty() {
         first.push(rec.clone());

@@ -27,26 +27,46 @@ const NEAR: f64 = 20.0;
 /// design's; `None` where one failed.
 type AtStart<const W: usize> = [Option<(f64, f64)>; W];
 
+/// Below this many rows times starts read, the starts are taken on one core: the threads
+/// would cost more than they save.
+const ON_CORES: usize = 4000;
+
 /// Each extra's log-likelihoods under the null and the larger design (`bases[e]`, per start)
-/// for `W` rate vectors whitened under start `i` by `white(i)`, at the starts it `uses`
+/// for `W` vectors of `rows` rates whitened under start `i` by `white(i)`, at the starts it `uses`
 /// (elsewhere `None`, as where a likelihood failed). Each start's whitening serves every
-/// extra.
+/// extra; the starts are spread over the cores.
 fn logliks<const W: usize>(
     starts: &[Start],
     bases: &[Vec<Larger>],
-    white: impl Fn(usize) -> Vec<[f64; W]>,
+    rows: usize,
+    white: impl Fn(usize) -> Vec<[f64; W]> + Sync,
     uses: &[Vec<bool>],
 ) -> Vec<Vec<AtStart<W>>> {
-    let mut out = vec![vec![[None; W]; starts.len()]; bases.len()];
-    for (i, start) in starts.iter().enumerate() {
-        if !uses.iter().any(|u| u[i]) {
-            continue;
-        }
+    let used: Vec<usize> = (0..starts.len()).filter(|&i| uses.iter().any(|u| u[i])).collect();
+    let at_start = |k: usize| {
+        let (i, start) = (used[k], &starts[used[k]]);
         let w = white(i);
-        for (e, at) in out.iter_mut().enumerate().filter(|(e, _)| uses[*e][i]) {
-            for (b, rss) in bases[e][i].rss_block(&start.cov, &w).into_iter().enumerate() {
-                at[i][b] = start.loglik(rss.0).zip(start.loglik(rss.1));
-            }
+        let per_extra: Vec<(usize, AtStart<W>)> = (0..bases.len())
+            .filter(|&e| uses[e][i])
+            .map(|e| {
+                let rss = bases[e][i].rss_block(&start.cov, &w);
+                (
+                    e,
+                    rss.map(|(small, large)| start.loglik(small).zip(start.loglik(large))),
+                )
+            })
+            .collect();
+        (i, per_extra)
+    };
+    let each = if rows * used.len() >= ON_CORES {
+        crate::cores::each(used.len(), at_start)
+    } else {
+        (0..used.len()).map(at_start).collect()
+    };
+    let mut out = vec![vec![[None; W]; starts.len()]; bases.len()];
+    for (i, per_extra) in each {
+        for (e, at) in per_extra {
+            out[e][i] = at;
         }
     }
     out
@@ -98,13 +118,13 @@ impl Draws<'_> {
     /// `EXCEEDED` have reached it, once it can no longer fall under `limit`, or at `most`.
     pub(super) fn p_values(
         &self,
-        recorded: impl Fn(usize) -> Vec<[f64; 1]>,
+        recorded: impl Fn(usize) -> Vec<[f64; 1]> + Sync,
         seed: u64,
         most: usize,
         limit: f64,
     ) -> Vec<Option<f64>> {
         let every = vec![vec![true; self.starts.len()]; self.bases.len()];
-        let on_recording = logliks(self.starts, self.bases, recorded, &every);
+        let on_recording = logliks(self.starts, self.bases, self.mean.len(), recorded, &every);
         let needed: Vec<Vec<bool>> = on_recording.iter().map(|at| needed(at)).collect();
         let mut tallies: Vec<Tally> = on_recording
             .iter()
@@ -141,7 +161,13 @@ impl Draws<'_> {
             .zip(needed)
             .map(|(t, n)| n.iter().map(|&u| u && t.drawing()).collect())
             .collect();
-        let at = logliks(self.starts, self.bases, |i| self.starts[i].cov.whiten_block(&y), &uses);
+        let at = logliks(
+            self.starts,
+            self.bases,
+            self.mean.len(),
+            |i| self.starts[i].cov.whiten_block(&y),
+            &uses,
+        );
         for ((t, at), u) in tallies.iter_mut().zip(&at).zip(&uses) {
             ratio(at, u).into_iter().for_each(|l| t.take(l));
         }

@@ -4,7 +4,7 @@
 //! design at once.
 
 use crate::gls::Cov;
-use std::rc::Rc;
+use std::sync::Arc;
 
 /// A larger design of the draws under one start, beyond the null's basis there.
 pub(super) enum Larger<'v> {
@@ -78,12 +78,12 @@ impl Basis {
 /// both.
 pub(super) struct Nested<'v> {
     null: &'v Basis,
-    extra: Rc<Basis>,
+    extra: Arc<Basis>,
 }
 
 impl<'v> Nested<'v> {
     /// `extra` a basis beyond `null` ([`Basis::beyond`]).
-    pub(super) fn new(null: &'v Basis, extra: Rc<Basis>) -> Nested<'v> {
+    pub(super) fn new(null: &'v Basis, extra: Arc<Basis>) -> Nested<'v> {
         Nested { null, extra }
     }
 
@@ -232,7 +232,7 @@ mod tests {
                 let (small, large) = (2..n - 2)
                     .map(|j| {
                         let step: Vec<f64> = (0..n).map(|i| f64::from(u8::from(i >= j))).collect();
-                        Nested::new(&basis, Rc::new(Basis::beyond(&basis, &[cov.whiten(&step)]))).rss_block(&one)[0]
+                        Nested::new(&basis, Arc::new(Basis::beyond(&basis, &[cov.whiten(&step)]))).rss_block(&one)[0]
                     })
                     .fold((0.0, f64::MAX), |(_, l), (s, x)| (s, l.min(x)));
                 let close = |a: f64, e: f64| (a - e).abs() <= 1e-9 * e;

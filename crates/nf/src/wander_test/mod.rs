@@ -165,7 +165,7 @@ struct Visit {
 }
 
 /// Columns not yet whitened, and their basis beyond a visit's null.
-type Met = (Vec<Vec<f64>>, Rc<Basis>);
+type Met = (Vec<Vec<f64>>, Arc<Basis>);
 
 /// The whitened null design's orthonormal basis and the whitened rates' residual off it.
 struct NullFit {
@@ -196,12 +196,12 @@ impl Visit {
     }
 
     /// `extra`, not yet whitened, whitened and made orthonormal beyond the null's basis.
-    fn beyond(&self, extra: &[Vec<f64>]) -> Rc<Basis> {
+    fn beyond(&self, extra: &[Vec<f64>]) -> Arc<Basis> {
         if let Some((_, b)) = self.beyond.borrow().iter().find(|(raw, _)| raw.as_slice() == extra) {
-            return Rc::clone(b);
+            return Arc::clone(b);
         }
-        let b = Rc::new(Basis::beyond(&self.fit().basis, &self.start.cov.whiten_each(extra)));
-        self.beyond.borrow_mut().push((extra.to_vec(), Rc::clone(&b)));
+        let b = Arc::new(Basis::beyond(&self.fit().basis, &self.start.cov.whiten_each(extra)));
+        self.beyond.borrow_mut().push((extra.to_vec(), Arc::clone(&b)));
         b
     }
 
@@ -350,6 +350,11 @@ impl Null<'_> {
             .y
             .iter()
             .fold(self.y.len() as u64, |h, v| h.rotate_left(7) ^ v.to_bits());
+        let recorded: Vec<Vec<[f64; 1]>> = self
+            .at_starts
+            .iter()
+            .map(|v| v.y.iter().map(|&v| [v]).collect())
+            .collect();
         Draws {
             starts: &self.test.starts,
             bases: &bases,
@@ -357,12 +362,7 @@ impl Null<'_> {
             sd: level.sqrt(),
             cov: &self.best.start.cov,
         }
-        .p_values(
-            |i| self.at_starts[i].y.iter().map(|&v| [v]).collect(),
-            seed,
-            most,
-            limit,
-        )
+        .p_values(|i| recorded[i].clone(), seed, most, limit)
     }
 
     /// The null's fitted rates and white level, which every draw adds noise of its best
@@ -604,9 +604,9 @@ mod tests {
         let square = vec![r.t.iter().map(|x| x * x).collect::<Vec<f64>>()];
         let first = v.beyond(&line);
         assert!(v.loglik(&line).is_some());
-        assert!(Rc::ptr_eq(&first, &v.beyond(&line)));
+        assert!(Arc::ptr_eq(&first, &v.beyond(&line)));
         // Other columns, even of the same shape, get their own.
-        assert!(!Rc::ptr_eq(&first, &v.beyond(&square)));
+        assert!(!Arc::ptr_eq(&first, &v.beyond(&square)));
         let fresh = Basis::beyond(&v.fit().basis, &v.start.cov.whiten_each(&square));
         assert_eq!(*v.beyond(&square), fresh);
     }
