@@ -3,7 +3,7 @@
 
 use clap::Parser;
 use nf::range::{MAX_LATITUDE_DEG, above, real};
-use nf_instrument::run::{RunConfig, RunReport};
+use nf_instrument::run::{Fault, RunConfig, RunReport, Sink, TiltPolicy};
 use nf_model::angle::wrap_180;
 use nf_model::order::Order;
 use nf_twin::{Recorder, TwinConfig, simulate, virtual_now_us};
@@ -64,12 +64,41 @@ struct Args {
     #[arg(long, default_value_t = TwinConfig::default().instrument.tilt_deg, allow_hyphen_values = true,
           value_parser = real(0.0, 10.0))]
     tilt: f64,
+    /// Largest shaft tilt the levelling check accepts (as the host link's `SET tilt_limit`), deg.
+    #[arg(long, default_value_t = RunConfig::DEFAULT.tilt_limit_deg as f64, allow_hyphen_values = true,
+          value_parser = real(0.0, 10.0))]
+    tilt_limit: f64,
+    /// A tilt beyond the limit ends the run (refuse) or is logged and the run goes on (warn),
+    /// as the host link's `SET tilt_policy`.
+    #[arg(long, value_enum, default_value = "refuse")]
+    tilt_policy: Policy,
     /// Where the recording goes.
     #[arg(long, default_value = "north-finder-run.csv")]
     out: String,
     /// No run log on stderr.
     #[arg(long)]
     quiet: bool,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Policy {
+    Refuse,
+    Warn,
+}
+
+/// The recording, each line also logged as `rec <line>`, as the firmware logs it (so that
+/// `nf log` reads this log as it reads the firmware's).
+struct LoggedRecorder(Recorder);
+
+impl Sink for LoggedRecorder {
+    async fn line(&mut self, line: &str) {
+        log::info!("rec {line}");
+        self.0.line(line).await;
+    }
+
+    fn abort_requested(&mut self) -> bool {
+        self.0.abort_requested()
+    }
 }
 
 pub fn main() -> ExitCode {
@@ -94,6 +123,11 @@ pub fn main() -> ExitCode {
         dwell_ms: a.dwell_ms,
         target_arcsec: a.target_arcsec.unwrap_or(0.0) as f32,
         latitude_deg: a.lat as f32,
+        tilt_limit_deg: a.tilt_limit as f32,
+        tilt_policy: match a.tilt_policy {
+            Policy::Refuse => TiltPolicy::Refuse,
+            Policy::Warn => TiltPolicy::Warn,
+        },
         ..RunConfig::default()
     };
     if !a.quiet {
@@ -101,15 +135,18 @@ pub fn main() -> ExitCode {
         log::set_max_level(log::LevelFilter::Info);
     }
     let wall = std::time::Instant::now();
-    let mut rec = Recorder::default();
+    let mut rec = LoggedRecorder(Recorder::default());
     let (report, world) = simulate(&twin, &cfg, &mut rec);
     let wall = wall.elapsed();
-    if let Err(e) = std::fs::write(&a.out, rec.text()) {
+    // A run that recorded nothing leaves a file of an earlier run as it was.
+    if rec.0.lines.is_empty() {
+        eprintln!("nothing recorded: {} not written", a.out);
+    } else if let Err(e) = std::fs::write(&a.out, rec.0.text()) {
         eprintln!("cannot write the recording to {}: {e}", a.out);
         return ExitCode::FAILURE;
     }
     let summary = Summary {
-        out: &a.out,
+        out: (!rec.0.lines.is_empty()).then_some(a.out.as_str()),
         wall_s: wall.as_secs_f64(),
         virtual_s: world.t_s(),
         truth_deg: twin.instrument.psi_deg,
@@ -125,6 +162,9 @@ pub fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("run failed {e}");
+            if let Fault::TiltOverLimit { .. } = e.fault {
+                eprintln!("(--tilt-limit DEG raises the limit; --tilt-policy warn runs on with a warning)");
+            }
             ExitCode::FAILURE
         }
     }
@@ -132,7 +172,8 @@ pub fn main() -> ExitCode {
 
 /// What the run's summary on standard output needs besides the report.
 struct Summary<'a> {
-    out: &'a str,
+    /// Where the recording went, if anything was recorded.
+    out: Option<&'a str>,
     wall_s: f64,
     virtual_s: f64,
     truth_deg: f64,
@@ -146,8 +187,11 @@ impl Summary<'_> {
         let mut o = std::io::stdout().lock();
         writeln!(
             o,
-            "run of {:.1} s (virtual) in {:.3} s: {} positions recorded to {}",
-            self.virtual_s, self.wall_s, report.positions, self.out
+            "run of {:.1} s (virtual) in {:.3} s: {} positions recorded{}",
+            self.virtual_s,
+            self.wall_s,
+            report.positions,
+            self.out.map_or(String::new(), |o| format!(" to {o}"))
         )?;
         if let Some(l) = report.levelling {
             writeln!(

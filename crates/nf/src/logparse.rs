@@ -4,7 +4,9 @@
 //! level and sometimes the location around the message, and may put the location on a
 //! following `└─` line; all of that is dropped, and so are colour codes. Invalid UTF-8 (line
 //! noise on the probe's link) is skipped with a warning; a `rec` line that had some is dropped,
-//! since its values cannot be trusted, and shows as a missing index.
+//! since its values cannot be trusted, and shows as a missing index. The lines that end a run
+//! (`result: ...`, `run ended: ...`, `target ... reached ...`) say how many positions the
+//! firmware recorded, so that lines lost at the end of a run are seen too.
 
 use crate::textfile::Error;
 use std::borrow::Cow;
@@ -16,13 +18,58 @@ pub struct Log {
     pub rec: Vec<(usize, String)>,
     /// Invalid UTF-8 skipped and `rec` lines dropped for it.
     pub warnings: Vec<Error>,
+    /// The lines that tell how a run ended, in the log's order.
+    pub ends: Vec<End>,
+}
+
+/// A line of the firmware's log that tells how a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct End {
+    /// Its line in the log (from 1).
+    pub line: usize,
+    /// The positions the firmware had recorded, where the line says (`result: ..., n 72`,
+    /// `run ended: ...; 10 positions kept`).
+    pub kept: Option<usize>,
+    /// The message, as logged.
+    pub text: String,
+}
+
+impl End {
+    fn of(line: usize, l: &str) -> Option<End> {
+        let (text, kept) = if let Some(m) = tagged(l, "result: ") {
+            let m = trimmed(m);
+            (m, m.rsplit_once(", n ").and_then(|(_, n)| n.trim().parse().ok()))
+        } else if let Some(m) = tagged(l, "run ended: ") {
+            let m = trimmed(m);
+            let kept = m
+                .rsplit_once("; ")
+                .and_then(|(_, k)| k.strip_suffix(" positions kept")?.parse().ok());
+            (m, kept)
+        } else {
+            let m = trimmed(tagged(l, "target ")?);
+            (m, None)
+        };
+        if text.starts_with("target ") && !text.contains(" reached after ") {
+            return None;
+        }
+        Some(End {
+            line,
+            kept,
+            text: text.to_string(),
+        })
+    }
+
+    /// Whether the run stopped before its last position: an abort, a fault or the target.
+    pub fn early(&self) -> bool {
+        !self.text.starts_with("result: ")
+    }
 }
 
 impl Log {
     /// The recording as it is written out: its metadata and header, the position lines on
     /// the log's lines `rows` in that order (the reader's: visiting order, exact copies
     /// dropped), then any `#` lines that were among the positions.
-    pub fn kept(&self, rows: &[usize]) -> String {
+    pub fn written(&self, rows: &[usize]) -> String {
         let header = self.rec.iter().position(|(_, l)| !l.starts_with('#'));
         let head = header.map_or(self.rec.len(), |h| h + 1);
         // The lines are in the log's order: found by halving, not by a scan per row.
@@ -80,14 +127,11 @@ impl Log {
             .map(|(k, &(a, b))| {
                 let first = if k == 0 { 0 } else { self.rec[a].0 };
                 let next = bounds.get(k + 1).map_or(usize::MAX, |&(c, _)| self.rec[c].0);
+                let within = |line: &usize| (first..next).contains(line);
                 Log {
                     rec: self.rec[a..b].to_vec(),
-                    warnings: self
-                        .warnings
-                        .iter()
-                        .filter(|w| (first..next).contains(&w.line))
-                        .cloned()
-                        .collect(),
+                    warnings: self.warnings.iter().filter(|w| within(&w.line)).cloned().collect(),
+                    ends: self.ends.iter().filter(|e| within(&e.line)).cloned().collect(),
                 }
             })
             .collect()
@@ -99,6 +143,11 @@ impl Log {
             let (k, v) = l.strip_prefix('#')?.split_once('=')?;
             (k.trim() == key).then(|| v.trim())
         })
+    }
+
+    /// The positions the firmware says it recorded, by the last line that tells, and that line.
+    pub fn kept(&self) -> Option<(usize, &End)> {
+        self.ends.iter().rev().find_map(|e| Some((e.kept?, e)))
     }
 
     /// Position lines (neither metadata nor the header).
@@ -113,7 +162,7 @@ impl Log {
 /// The recording lines found in a log, in order.
 pub fn extract(log: &[u8]) -> Log {
     let log = log.strip_prefix("\u{FEFF}".as_bytes()).unwrap_or(log);
-    let (mut rec, mut warnings, mut noisy) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut rec, mut warnings, mut noisy, mut ends) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     // A log cut off mid-line (the probe unplugged, a copy stopped) ends without a line break:
     // its last line may have lost fields or digits, 3.722 for 3.7222496.
     let unterminated = !log.is_empty() && !log.ends_with(b"\n");
@@ -121,10 +170,12 @@ pub fn extract(log: &[u8]) -> Log {
     for (i, raw) in log.split(|&b| b == b'\n').enumerate() {
         let n = i + 1;
         let (text, bad) = valid_utf8(raw);
-        let Some(msg) = rec_message(&strip_colour(&text)) else {
+        let text = strip_colour(&text);
+        let Some(msg) = rec_message(&text) else {
             if bad > 0 {
                 noisy.push(n);
             }
+            ends.extend(End::of(n, &text));
             continue;
         };
         if bad > 0 {
@@ -156,7 +207,7 @@ pub fn extract(log: &[u8]) -> Log {
             },
         );
     }
-    Log { rec, warnings }
+    Log { rec, warnings, ends }
 }
 
 /// The text of a line with its invalid UTF-8 left out, and how many bytes that was.
@@ -196,10 +247,18 @@ fn strip_colour(l: &str) -> Cow<'_, str> {
 
 /// The recording line a log line carries, if it is a `rec` message.
 fn rec_message(l: &str) -> Option<String> {
-    let l = l.trim_end_matches('\r');
-    let pos = find_tag(l)?;
-    let mut msg = l[pos + 4..].trim();
-    // A location printed on the same line.
+    let msg = trimmed(&tagged(l, "rec ")?[4..]);
+    if msg.starts_with('#') {
+        Some(msg.to_string())
+    } else {
+        // Data and header lines have no spaces: anything after them is the printer's.
+        msg.split_whitespace().next().map(str::to_string)
+    }
+}
+
+/// A message without the location a printer may put after it on the same line.
+fn trimmed(msg: &str) -> &str {
+    let mut msg = msg.trim_end_matches('\r').trim();
     if let Some(i) = msg.find("└─") {
         msg = msg[..i].trim_end();
     }
@@ -209,29 +268,25 @@ fn rec_message(l: &str) -> Option<String> {
     {
         msg = msg[..i].trim_end();
     }
-    if msg.starts_with('#') {
-        Some(msg.to_string())
-    } else {
-        // Data and header lines have no spaces: anything after them is the printer's.
-        msg.split_whitespace().next().map(str::to_string)
-    }
+    msg
 }
 
-/// Byte offset of the `rec ` tag: at the start of the message, after level and time stamp.
-fn find_tag(l: &str) -> Option<usize> {
-    if l.starts_with("rec ") {
-        return Some(0);
+/// The message from `tag` on, where it starts the line or follows the printer's prefix (a
+/// level or a bracket after the time stamp).
+fn tagged<'a>(l: &'a str, tag: &str) -> Option<&'a str> {
+    if l.starts_with(tag) {
+        return Some(l);
     }
+    let spaced = format!(" {tag}");
     let mut from = 0;
-    while let Some(i) = l[from..].find(" rec ") {
+    while let Some(i) = l[from..].find(&spaced) {
         let at = from + i + 1;
         let before = l[..at].trim_end();
-        // Only when what precedes is the printer's prefix: ends with a level or a bracket.
         let ends_prefix = ["INFO", "DEBUG", "WARN", "ERROR", "TRACE", "]", ">"]
             .iter()
             .any(|p| before.ends_with(p));
         if ends_prefix {
-            return Some(at);
+            return Some(&l[at..]);
         }
         from = at;
     }
@@ -297,6 +352,32 @@ WARN  inclinometer: bad line dropped
     }
 
     #[test]
+    fn the_lines_that_end_a_run_give_the_positions_recorded() {
+        let log = "\
+12.5 INFO  target 18 arcsec reached after 22 of 72 dwells: sigma 17.9 arcsec under the noise model
+12.5 INFO  result: psi 65.5 deg +- 13.2 arcsec, amplitude 10.8 deg/h, rss 0.001 (deg/h)^2, n 22 └─ north_finder @ src/run.rs:676
+[ERROR] run ended: RunError { stage: Position(9), fault: Aborted }; 10 positions kept (nf_instrument src/run.rs:684)
+INFO  the target was moved
+INFO  result: psi 65.5 deg, sigma undefined (0 dof), amplitude 10.8 deg/h, n 3
+";
+        let ends = extract(log.as_bytes()).ends;
+        let kept: Vec<_> = ends.iter().map(|e| (e.line, e.kept, e.early())).collect();
+        assert_eq!(
+            kept,
+            [
+                (1, None, true),
+                (2, Some(22), false),
+                (3, Some(10), true),
+                (5, Some(3), false)
+            ]
+        );
+        assert_eq!(
+            ends[2].text,
+            "run ended: RunError { stage: Position(9), fault: Aborted }; 10 positions kept"
+        );
+    }
+
+    #[test]
     fn a_message_that_mentions_rec_is_not_a_line() {
         assert!(extract(b"INFO  the rec button was pressed").rec.is_empty());
     }
@@ -319,7 +400,7 @@ WARN  inclinometer: bad line dropped
         assert!(l.warnings[0].what.contains("skipped on line(s) 2"), "{:?}", l.warnings);
         assert!(l.warnings[1].what.contains("dropped"), "{:?}", l.warnings);
         assert_eq!(l.on_log_lines(), "# format = northfinder-recording/1\n\n\nindex,t_s\n");
-        assert_eq!(l.kept(&[]), "# format = northfinder-recording/1\nindex,t_s\n");
+        assert_eq!(l.written(&[]), "# format = northfinder-recording/1\nindex,t_s\n");
     }
 
     #[test]
@@ -328,7 +409,7 @@ WARN  inclinometer: bad line dropped
             b"rec # format = northfinder-recording/1\nrec index,t_s\nrec 0,1\nrec 2,3\nrec 1,2\nrec 1,2\nrec # note\n";
         let l = extract(log);
         assert_eq!(
-            l.kept(&[3, 5, 4]),
+            l.written(&[3, 5, 4]),
             "# format = northfinder-recording/1\nindex,t_s\n0,1\n1,2\n2,3\n# note\n"
         );
     }

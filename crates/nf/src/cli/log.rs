@@ -2,7 +2,7 @@
 
 use super::{Fail, note, write_out};
 use crate::logparse;
-use crate::recording::{IndexGap, Recording, index_gaps};
+use crate::recording::{IndexGap, Recording, Row, index_gaps};
 use std::io::Read;
 
 #[derive(clap::Args)]
@@ -119,8 +119,53 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
             2,
         ));
     }
+    ends_as_logged(&a.log, &log, &rec.rows, a.allow_gaps)?;
     let lines: Vec<usize> = rec.rows.iter().map(|r| r.line).collect();
-    write_out(&a.out, &log.kept(&lines))?;
+    write_out(&a.out, &log.written(&lines))?;
     note!("{} positions recovered from {}", rec.rows.len(), a.log);
+    Ok(())
+}
+
+/// The positions against the count the run's end gives (`result: ..., n 72`): lines lost at
+/// the end of a run leave no gap in the indices, and a line beyond the count is not the
+/// firmware's. A run that stopped early, or whose end the log does not hold, is said so.
+fn ends_as_logged(path: &str, log: &logparse::Log, rows: &[Row], allow_gaps: bool) -> Result<(), Fail> {
+    for e in log.ends.iter().filter(|e| e.early()) {
+        note!("nf: note: {path}:{}: the run stopped early: {}", e.line, e.text);
+    }
+    let Some((kept, end)) = log.kept() else {
+        note!(
+            "nf: note: {path}: the log ends before the run does (no 'result:' or 'run ended:' line): the positions it holds are written"
+        );
+        return Ok(());
+    };
+    if let Some(r) = rows.iter().find(|r| r.index as usize >= kept) {
+        return Err(Fail(
+            format!(
+                "{path}:{}: index {} is beyond the {kept} positions the firmware recorded ({path}:{}: {})",
+                r.line, r.index, end.line, end.text
+            ),
+            2,
+        ));
+    }
+    let next = rows.iter().map(|r| r.index as usize + 1).max().unwrap_or(0);
+    if next < kept {
+        let which = if next + 1 == kept {
+            format!("index {next}")
+        } else {
+            format!("indices {next} to {}", kept - 1)
+        };
+        let what = format!(
+            "{path}:{}: the firmware recorded {kept} positions, the log lacks {which} (lost 'rec' lines?)",
+            end.line
+        );
+        if !allow_gaps {
+            return Err(Fail(
+                format!("{what}; --allow-gaps writes the recording without them"),
+                2,
+            ));
+        }
+        note!("nf: warning: {what}");
+    }
     Ok(())
 }
