@@ -528,7 +528,18 @@ fn bad_inputs_exit_2_and_say_where() {
         ),
         ("negative.noise", "# K\nrrw_dph_rth = -0.5\n", ":2:", "negative"),
         ("infinite.noise", "gm_sigma_dph = inf\n", ":1:", "not a finite number"),
-        ("gm.noise", "arw_deg_rth = 0.1\ngm_sigma_dph = 0.1\n", ":2:", "gm_tau_s"),
+        (
+            "gm.noise",
+            "arw_deg_rth = 0.1\ngm_sigma_dph = 0.1\nbias_instability_dph = 0\nrrw_dph_rth = 0\n",
+            ":2:",
+            "gm_tau_s",
+        ),
+        (
+            "cut.noise",
+            "arw_deg_rth = 0.1\nbias_instability_dph = 0.01\n",
+            ": no rrw_dph_rth",
+            "a noise file gives N, B and K",
+        ),
     ] {
         let p = write(name, text);
         refused(&["simulate", "--noise", &p], &format!("{name}{place}"), what);

@@ -129,6 +129,12 @@ fn every_numeric_option_has_a_checked_range() {
         (&["simulate", "--student-t-dof", "1.5"], "--student-t-dof"),
         (&["simulate", "--gm-sigma", "0.1"], "--gm-tau"),
         (&["plan", "--gm-tau", "5"], "--gm-sigma"),
+        // A model given to a fit without its white noise.
+        (
+            &["fit", r, "--bias-instability", "0.004"],
+            "without --arw: a noise model given to the fit needs",
+        ),
+        (&["diagnose", r, "--rrw", "0.01"], "--rrw 0.01 without --arw"),
         (&["fit", r, "--sigma-encoder", "nan"], "--sigma-encoder"),
         (&["fit", r, "--sigma-tilt", "inf"], "--sigma-tilt"),
         (&["fit", r, "--harmonics", "9"], "--harmonics"),

@@ -1,7 +1,8 @@
 //! Noise-model files: `key = value` lines whose keys are the `NoiseModel` field names (IEEE
 //! Std 952 units), `#` comments; or the JSON that `nf allan --json` writes (or any JSON with
-//! those keys, at the top or under `noise_model` as `nf fit --json` has them). What is wrong
-//! is named with its line.
+//! those keys, at the top or under `noise_model` as `nf fit --json` has them). N, B and K are
+//! given in every file (0 for a term the gyro lacks); the others are 0 where left out. What
+//! is wrong is named with its line.
 
 use crate::textfile::{Error, err};
 use nf_model::noise::{NoiseError, NoiseModel};
@@ -17,6 +18,25 @@ pub const KEYS: [&str; 7] = [
     "quantization_arcsec",
     "student_t_dof",
 ];
+
+/// The terms every file gives: a file cut short, or a term forgotten, would otherwise drop
+/// a term without a word and the sigmas under the model would be too small.
+pub const REQUIRED: [&str; 3] = ["arw_deg_rth", "bias_instability_dph", "rrw_dph_rth"];
+
+/// An error naming the required terms that `given` lacks, if any.
+fn lacking(given: impl Fn(&str) -> bool) -> Result<(), Error> {
+    let missing: Vec<&str> = REQUIRED.iter().copied().filter(|k| !given(k)).collect();
+    if missing.is_empty() {
+        return Ok(());
+    }
+    err(
+        0,
+        format!(
+            "no {}: a noise file gives N, B and K, 0 for a term the gyro lacks (a file cut short would drop them without a word)",
+            missing.join(", ")
+        ),
+    )
+}
 
 fn field<'a>(m: &'a mut NoiseModel, key: &str) -> Option<&'a mut f64> {
     Some(match key {
@@ -112,6 +132,7 @@ pub fn parse(text: &str) -> Result<NoiseModel, Error> {
             ),
         );
     }
+    lacking(|k| seen.iter().any(|(s, _)| *s == k))?;
     validated(m, |key| seen.iter().find(|(s, _)| *s == key).map_or(0, |(_, l)| *l))
 }
 
@@ -147,6 +168,7 @@ fn parse_json(text: &str) -> Result<NoiseModel, Error> {
     if !any {
         return err(0, format!("no noise terms in the JSON (keys: {})", KEYS.join(", ")));
     }
+    lacking(|k| obj.get(k).is_some_and(Value::is_number))?;
     validated(m, |key| json_line(text, key))
 }
 
@@ -178,8 +200,8 @@ mod tests {
         assert!(text.contains("# from a test\n# two lines arw_deg_rth = 9\n"));
         assert_eq!(parse(&text), Ok(model()));
         assert!(text.contains("rrw_dph_rth = 0.3333333333333333\n"));
-        // Keys in any order, comments, missing keys zero.
-        let m = parse("# mine\n\nrrw_dph_rth = 0.1  # K\narw_deg_rth=2e-3\n").unwrap();
+        // Keys in any order, comments, the terms beyond N, B and K zero where left out.
+        let m = parse("# mine\n\nrrw_dph_rth = 0.1  # K\narw_deg_rth=2e-3\nbias_instability_dph = 0\n").unwrap();
         assert_eq!((m.arw_deg_rth, m.rrw_dph_rth, m.gm_tau_s), (0.002, 0.1, 0.0));
     }
 
@@ -189,7 +211,8 @@ mod tests {
             "rrw_dph_rth": 0.05, "gm_sigma_dph": null, "curve": [{"tau_s": 0.1}]}"#;
         let m = parse(allan).unwrap();
         assert_eq!((m.arw_deg_rth, m.rrw_dph_rth, m.gm_sigma_dph), (0.002, 0.05, 0.0));
-        let fit = r#"{"azimuth_deg": 12.0, "noise_model": {"arw_deg_rth": 0.001, "gm_tau_s": 3}}"#;
+        let fit = r#"{"azimuth_deg": 12.0, "noise_model": {"arw_deg_rth": 0.001, "bias_instability_dph": 0,
+            "rrw_dph_rth": 0, "gm_tau_s": 3}}"#;
         assert_eq!(parse(fit).unwrap().gm_tau_s, 3.0);
     }
 
@@ -197,15 +220,35 @@ mod tests {
     fn every_bad_file_names_the_line() {
         let cases: &[(&str, usize, &str)] = &[
             ("arw_deg_rth = 0.1\nbogus = 1\n", 2, "unknown key 'bogus'"),
+            (
+                "arw_deg_rth = 0.1\nbias_instability_dph = 0.01\n",
+                0,
+                "no rrw_dph_rth: a noise file gives N, B and K",
+            ),
+            ("rrw_dph_rth = 0.1\n", 0, "no arw_deg_rth, bias_instability_dph:"),
+            (
+                "{\"arw_deg_rth\": 1, \"bias_instability_dph\": null, \"rrw_dph_rth\": 0}",
+                0,
+                "no bias_instability_dph:",
+            ),
             ("arw_deg_rth = 0.1\n\narw_deg_rth = 0.2\n", 3, "twice (first on line 1)"),
             ("# c\nrrw_dph_rth = -0.1\n", 2, "negative"),
             ("rrw_dph_rth = inf\n", 1, "not a finite number"),
             ("rrw_dph_rth = NaN\n", 1, "not a finite number"),
             ("rrw_dph_rth = abc\n", 1, "'abc' is not a number"),
             ("rrw_dph_rth 0.1\n", 1, "not 'key = value'"),
-            ("arw_deg_rth = 0.1\ngm_sigma_dph = 0.1\n", 2, "needs gm_tau_s > 0"),
+            (
+                "arw_deg_rth = 0.1\ngm_sigma_dph = 0.1\nbias_instability_dph = 0\nrrw_dph_rth = 0\n",
+                2,
+                "needs gm_tau_s > 0",
+            ),
             ("# nothing\n", 0, "no noise terms"),
             ("{\n  \"arw_deg_rth\": 1,\n  \"rrw_dph_rth\": -2\n}", 3, "negative"),
+            (
+                "{\n  \"arw_deg_rth\": 1,\n  \"bias_instability_dph\": 0,\n  \"rrw_dph_rth\": 0,\n  \"gm_sigma_dph\": 1\n}",
+                5,
+                "needs gm_tau_s",
+            ),
             ("{\n  \"rrw_dph_rth\": \"x\"\n}", 2, "not a number"),
             ("{\n  \"arw_deg_rth\": 1,\n", 3, "not valid JSON"),
             ("{\"azimuth_deg\": 1}", 0, "no noise terms"),

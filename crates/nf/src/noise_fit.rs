@@ -231,9 +231,9 @@ pub fn fit(
     };
     let (model, source, v, carried) = match choice {
         NoiseChoice::Given(m, s) => {
-            let cov = windows
-                .cov(m)
-                .ok_or("the noise model gives no usable covariance (all terms zero?)")?;
+            let cov = windows.cov(m).ok_or_else(|| {
+                format!("the noise model given ({s}) makes no covariance of the dwell means: its terms are all zero or too small")
+            })?;
             let g = gls::fit(&cols, y, &cov).ok_or("the positions do not determine the fit's terms")?;
             (*m, NoiseSource::Given(s.clone()), azimuth(&g.coef, &g.cov), (1.0, 1.0))
         }

@@ -15,7 +15,6 @@ use crate::range::above;
 use crate::recording::Recording;
 use crate::report::Page;
 use crate::sim_compare;
-use nf_model::noise::NoiseModel;
 use std::io::Write;
 use std::path::Path;
 
@@ -91,7 +90,7 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
     let opt = Options {
         alpha: a.alpha,
         noise: if a.noise.any() {
-            NoiseChoice::Given(a.noise.apply(NoiseModel::WHITE_NONE)?, a.noise.describe())
+            NoiseChoice::Given(a.noise.given()?, a.noise.describe())
         } else {
             NoiseChoice::Estimate
         },

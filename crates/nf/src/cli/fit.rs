@@ -13,7 +13,6 @@ use crate::recording::Recording;
 use crate::report::Page;
 use clap::ValueEnum;
 use nf_model::fit::Drift;
-use nf_model::noise::NoiseModel;
 use std::io::Write;
 
 mod json;
@@ -124,7 +123,7 @@ fn options(a: &FitArgs) -> Result<Options, Fail> {
         sigma_encoder_deg: a.sigma_encoder,
         sigma_tilt_deg: a.sigma_tilt,
         noise: if a.noise.any() {
-            NoiseChoice::Given(a.noise.apply(NoiseModel::WHITE_NONE)?, a.noise.describe())
+            NoiseChoice::Given(a.noise.given()?, a.noise.describe())
         } else {
             NoiseChoice::Estimate
         },

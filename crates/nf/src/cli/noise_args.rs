@@ -93,6 +93,22 @@ impl NoiseArgs {
         Ok(m)
     }
 
+    /// The model given to a fit in place of one estimated from the recording: a noise file,
+    /// or the flags with the white noise among them (colours alone are no gyro's model, and
+    /// fitted as given they would leave the sigma without the white noise's share).
+    pub fn given(&self) -> Result<NoiseModel, Fail> {
+        if self.noise_file.is_none() && self.arw.is_none() {
+            return Err(Fail(
+                format!(
+                    "{} without --arw: a noise model given to the fit needs the gyro's white noise (--arw, deg/sqrt(h)); give no noise flags to have the model estimated from the recording",
+                    self.describe()
+                ),
+                2,
+            ));
+        }
+        self.apply(NoiseModel::WHITE_NONE)
+    }
+
     /// A short description of the flags given, for reports.
     pub fn describe(&self) -> String {
         let parts: Vec<String> = [
