@@ -360,6 +360,44 @@ fn cli_json_plot_and_the_noise_file_round_trip() {
 /// One fill value of -9999 in an hour at 10 Hz: left out and named by its line, N as from
 /// the clean log; kept (`--keep-spikes`), N many times too large.
 #[test]
+fn a_floor_not_reached_bounds_b_from_above() {
+    // Flicker at 10 deg/h under white noise: an hour at 100 Hz ends on the floor, where the
+    // last point's few clusters may lie lowest; the bound stated must hold the truth.
+    let truth = NoiseModel {
+        arw_deg_rth: 0.3,
+        bias_instability_dph: 10.0,
+        ..NoiseModel::WHITE_NONE
+    };
+    let path = tmp("floor.csv");
+    let mut bounds = Vec::new();
+    for seed in 1..=8 {
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+        twin_log(truth, 100.0, 1.0, seed).write(&mut f).unwrap();
+        drop(f);
+        let (code, out, err) = nf(&["allan", &path]);
+        assert_eq!(code, 0, "{err}");
+        if let Some((_, rest)) = out.split_once("B is below about ") {
+            let bound: f64 = rest
+                .split(" = ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            bounds.push((seed, bound));
+        }
+    }
+    println!("seeds and bounds: {bounds:?}");
+    assert!(
+        !bounds.is_empty(),
+        "no seed ended without its floor: the test tests nothing"
+    );
+    assert!(bounds.iter().all(|(_, b)| *b > 10.0), "{bounds:?}");
+}
+
+#[test]
 fn a_spike_is_left_out_and_named_by_its_line() {
     let truth = NoiseModel {
         arw_deg_rth: 0.002,

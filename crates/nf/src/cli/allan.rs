@@ -10,6 +10,7 @@ use crate::noise_file;
 use crate::plot::{self, Panel, Series, Style};
 use crate::range::above;
 use crate::report::Page;
+use crate::stats::chi2_quantile;
 use nf_model::noise::{NoiseModel, flicker_floor_factor};
 use std::io::Write;
 
@@ -164,6 +165,9 @@ const TERMS: [(Term, &str, &str); 5] = [
 /// An angle random walk below this (deg/sqrt(h)) is a unit mistake, not a gyro.
 const IMPLAUSIBLE_ARW: f64 = 1e-5;
 
+/// The level of the bound on B stated where the curve has not bottomed out.
+const BOUND_LEVEL: f64 = 0.95;
+
 /// A term's value and 68 % interval as the text and the noise file's comments give it.
 fn term_text(fit: &AllanFit, term: Term, unit: &str) -> String {
     match fit.param(term) {
@@ -270,13 +274,17 @@ impl Report<'_> {
         }
         let ((mt, ma), (ft, fa)) = floor(self.points, &fit.model, src.sampling);
         let longest = self.points.last().map_or(f64::NAN, |p| p.tau_s);
-        let read_off = if mt >= longest {
-            // White noise and a short log: the lowest point is only the last one.
+        let read_off = if let Some((p, edf, _)) = self.rows().last().filter(|_| mt >= longest) {
+            // The lowest point is the last: every term adds to the Allan variance, so the
+            // flicker's floor lies under the true curve there, which that point bounds only
+            // as far as its few clusters allow (an outside audit: B = 10 stated below 8.3).
+            let upper = (edf * p.avar / chi2_quantile(1.0 - BOUND_LEVEL, edf)).sqrt();
             format!(
-                "not reached: still falling at the longest tau, so B is below about {} / {:.3} = {} deg/h",
-                g(ma),
+                "not reached: lowest at the longest tau, so B is below about {} / {:.3} = {} deg/h, that point's {:.0} % upper bound",
+                g(upper),
                 flicker_floor_factor(),
-                g(ma / flicker_floor_factor())
+                g(upper / flicker_floor_factor()),
+                100.0 * BOUND_LEVEL
             )
         } else {
             format!(
