@@ -232,6 +232,12 @@ impl Summary<'_> {
                 _ => writeln!(o)?,
             }
         }
+        if report.under_noise.is_some() && !report.resolved {
+            writeln!(
+                o,
+                "WARNING: the amplitude is not the Earth rate's at this latitude (unresolved): the calibration, the latitude or the gyro is wrong, and the azimuth and its sigma cannot be trusted"
+            )?;
+        }
         if let Some(u) = report.under_noise {
             writeln!(
                 o,

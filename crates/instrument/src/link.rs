@@ -114,12 +114,13 @@ impl LinkError {
             LinkError::Empty => "empty line",
             LinkError::UnknownCommand => "unknown command (SET, START, ABORT, STATUS, CONFIG, SAVE, DEFAULTS)",
             LinkError::UnknownKey => {
-                "unknown key (n, dwell_ms, settle_ms, lat, tilt_limit, tilt_policy, order, target_arcsec, arw, bias_instability, rrw, gm_sigma, gm_tau, cal_zero, cal_scale)"
+                "unknown key (n dwell_ms settle_ms lat tilt_limit tilt_policy order target_arcsec arw bias_instability rrw gm_sigma gm_tau cal_zero cal_scale)"
             }
             LinkError::MissingValue => "SET needs a key and a value",
             LinkError::BadValue => "value is not a number of the right kind",
             LinkError::OutOfRange => "value out of range",
-            LinkError::Order(_) => "order: not a named order or a valid list of positions",
+            // `write_message` goes on with the order's own.
+            LinkError::Order(_) => "order: ",
             LinkError::NoListToExtend => "SET order+ continues a listed order; set one first",
         }
     }
@@ -129,7 +130,7 @@ impl LinkError {
     pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
         match self {
             LinkError::Order(e) => {
-                w.write_str("order: ")?;
+                w.write_str(self.message())?;
                 e.write_message(w)
             }
             e => w.write_str(e.message()),

@@ -23,6 +23,7 @@ use nf_model::noise_terms::NoiseTerms;
 use nf_model::order::{Order, OrderError};
 use nf_model::running::{Running, RunningGls};
 use nf_model::text;
+use nf_model::uncertainty::{self, EARTH_RATE_RATIOS};
 
 /// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
 pub trait GyroSource {
@@ -226,6 +227,9 @@ pub struct RunReport {
     pub under_noise: Option<Running<f32>>,
     /// The run ended early: the running sigma reached the target.
     pub target_reached: bool,
+    /// The running azimuth's amplitude can be the Earth rate's at the run's latitude
+    /// ([`resolved`]); off it neither the azimuth nor its sigma can be trusted.
+    pub resolved: bool,
 }
 
 /// The instrument as the run sees it: the firmware's own drivers on buses and pins.
@@ -514,6 +518,15 @@ where
     }
 }
 
+/// Whether the running azimuth's amplitude can be the Earth rate's at `lat_deg`: within
+/// [`EARTH_RATE_RATIOS`] of it (a scale set a million times off gave an azimuth 113 deg off at
+/// a sigma of 5"). Its own sd is not allowed for, as the host's rule does: where it matters
+/// the azimuth's sigma is tens of degrees, and the band costs less flash alone.
+fn resolved(r: &Running<f32>, lat_deg: f32) -> bool {
+    let ratio = r.amplitude_dph / uncertainty::amplitude_dph(lat_deg);
+    ratio >= EARTH_RATE_RATIOS.0 as f32 && ratio <= EARTH_RATE_RATIOS.1 as f32
+}
+
 fn summary(r: &FitResult<f32>) -> Azimuth {
     Azimuth {
         psi_deg: r.psi_deg,
@@ -557,6 +570,7 @@ where
         azimuth: None,
         under_noise: None,
         target_reached: false,
+        resolved: false,
     };
     let fit_cfg = FitConfig {
         tilt_correction_lat_deg: cfg.tilt_correction.then_some(cfg.latitude_deg),
@@ -591,13 +605,6 @@ where
             return report;
         }
     };
-    info!(
-        "run: {} positions, {} order, dwell {} ms, latitude {} deg",
-        cfg.positions,
-        cfg.order.name(),
-        cfg.dwell_ms,
-        cfg.latitude_deg
-    );
     if let Some(u) = cfg.order.uneven(cfg.positions) {
         warn!(
             "run: the order visits {} of {} positions, each {} to {} times: a drift cancels only over an even coverage",
@@ -627,24 +634,11 @@ where
                 weight: 1.0,
             };
             fit.add(&obs).map_err(|e| ctx.err(Fault::Fit(e)))?;
-            info!(
-                "position {}: gamma {} deg, rate {} deg/h, sd {}",
-                k, obs.gamma_deg, obs.rate_dph, rec.rate_sd_dph
-            );
-            match fit.solve() {
-                Ok(r) if r.dof > 0 => info!(
-                    "running azimuth {} deg +- {} arcsec after {} positions",
-                    r.psi_deg,
-                    r.sigma_psi_deg * 3600.0,
-                    r.n
-                ),
-                Ok(r) => info!("running azimuth {} deg, sigma undefined (0 dof)", r.psi_deg),
-                Err(_) => {}
-            }
             let r = ctx.under_noise(&mut running, &rec)?;
             report.under_noise = Some(r);
             let sigma_arcsec = r.sigma_psi_deg * 3600.0;
-            if cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec {
+            let target = cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec;
+            if target && resolved(&r, cfg.latitude_deg) {
                 info!(
                     "target {} arcsec reached after {} of {} dwells: sigma {} arcsec under the noise model",
                     cfg.target_arcsec,
@@ -669,6 +663,12 @@ where
             })
         }
         Err(_) => {}
+    }
+    report.resolved = report.under_noise.is_some_and(|r| resolved(&r, cfg.latitude_deg));
+    if report.under_noise.is_some() && !report.resolved {
+        warn!(
+            "result: the amplitude is not the Earth rate's at this latitude: the calibration, the latitude or the gyro is wrong, and the azimuth and its sigma cannot be trusted"
+        );
     }
     match (&report.result, &report.azimuth) {
         (Ok(()), Some(a)) => match a.sigma_arcsec {

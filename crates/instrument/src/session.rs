@@ -1,7 +1,7 @@
 //! The host link's session: bytes in, lines assembled, commands handled, replies out. The
 //! firmware feeds it the bytes of its USART; the host tests feed it scenario files.
 
-use crate::link::{self, Command};
+use crate::link::{self, Command, LinkError, Setting};
 use crate::record::MAX_LINE;
 use crate::run::{RunConfig, RunReport, TiltPolicy};
 use core::fmt::Write;
@@ -95,6 +95,9 @@ pub struct Session {
     pub cfg: RunConfig,
     running: bool,
     last: Option<RunReport>,
+    /// The last `SET order` or `SET order+` was refused: a continuation would extend the list
+    /// before it.
+    order_refused: bool,
 }
 
 impl Default for Session {
@@ -109,6 +112,7 @@ impl Session {
             cfg,
             running: false,
             last: None,
+            order_refused: false,
         }
     }
 
@@ -132,7 +136,10 @@ impl Session {
         match event {
             Assembled::Line(l) => match link::parse(l) {
                 Ok(cmd) => self.command(cmd),
-                Err(e) => (Action::None, error(e)),
+                Err(e) => {
+                    self.order_refused |= matches!(e, LinkError::Order(_));
+                    (Action::None, error(e))
+                }
             },
             Assembled::TooLong => {
                 let mut l = ReplyLine::new();
@@ -155,14 +162,35 @@ impl Session {
                 self.cfg = RunConfig::DEFAULT;
                 (Action::None, line("OK"))
             }
-            Command::Set(s) => match link::apply(&mut self.cfg, s) {
-                Ok(()) => (Action::None, line("OK")),
-                Err(e) => (Action::None, error(e)),
-            },
-            Command::Start => {
-                self.running = true;
-                (Action::Start, line("OK"))
+            // After a refused list, a continuation would extend the list before it.
+            Command::Set(Setting::OrderMore(_)) if self.order_refused => {
+                (Action::None, error(LinkError::NoListToExtend))
             }
+            Command::Set(s) => {
+                let order = matches!(s, Setting::Order(_));
+                match link::apply(&mut self.cfg, s) {
+                    Ok(()) => {
+                        self.order_refused &= !order;
+                        (Action::None, line("OK"))
+                    }
+                    Err(e) => {
+                        self.order_refused |= matches!(e, LinkError::Order(_));
+                        (Action::None, error(e))
+                    }
+                }
+            }
+            // Settings that make no run are refused here, with why, not by a run that fails.
+            Command::Start => match self.cfg.order.check(self.cfg.positions) {
+                Err(e) => (Action::None, error(LinkError::Order(e))),
+                // The one noise model the link's numbers can set that makes no run.
+                Ok(()) if self.cfg.noise.gm_sigma_dph > 0.0 && self.cfg.noise.gm_tau_s <= 0.0 => {
+                    (Action::None, line("ERR gm_sigma needs gm_tau"))
+                }
+                Ok(()) => {
+                    self.running = true;
+                    (Action::Start, line("OK"))
+                }
+            },
             Command::Abort if self.running => (Action::Abort, line("OK")),
             Command::Abort => (Action::None, line("ERR no run to abort")),
             Command::Status => (Action::None, self.status()),
@@ -199,6 +227,9 @@ impl Session {
             }
             if r.target_reached {
                 let _ = l.push_str(" target_reached");
+            }
+            if r.under_noise.is_some() && !r.resolved {
+                let _ = l.push_str(" unresolved");
             }
             let _ = l.push_str(match r.result {
                 Ok(()) => " ok",
@@ -379,6 +410,7 @@ mod tests {
             azimuth: None,
             under_noise: None,
             target_reached: false,
+            resolved: true,
         };
         session.finished(report(0));
         assert_eq!(session.status()[0].as_str(), "STATUS idle last: 8 dwells ok");

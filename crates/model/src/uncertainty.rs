@@ -11,6 +11,20 @@ pub fn amplitude_dph<F: Float>(lat_deg: F) -> F {
     c::<F>(EARTH_RATE_DPH) * sincos_deg(lat_deg).1
 }
 
+/// First-harmonic amplitudes, over `WE cos(lat)`, that can be the Earth rate's (a gyro's scale
+/// factor and the fit's own error leave far less than this).
+pub const EARTH_RATE_RATIOS: (f64, f64) = (0.5, 1.5);
+
+/// Whether a fitted first-harmonic amplitude (deg/h, with its sd) can be the Earth rate's,
+/// `predicted_dph`: within [`EARTH_RATE_RATIOS`] of it, or within 3 of its sds of it. Off it,
+/// the rates are not what the fit takes them for (a calibration's scale wrong by orders, rates
+/// in other units, the wrong latitude) and neither the azimuth nor its sigma can be trusted.
+pub fn amplitude_is_earth_rate<F: Float>(amplitude_dph: F, sigma_amplitude_dph: F, predicted_dph: F) -> bool {
+    let (lo, hi) = (c::<F>(EARTH_RATE_RATIOS.0), c::<F>(EARTH_RATE_RATIOS.1));
+    let ratio = amplitude_dph / predicted_dph;
+    (ratio >= lo && ratio <= hi) || (amplitude_dph - predicted_dph).abs() <= c::<F>(3.0) * sigma_amplitude_dph
+}
+
 /// White gyro noise `sigma_w` (deg/h, per position) on `n` equal steps: Eq. 24, in arcsec.
 pub fn gyro_arcsec<F: Float>(n: u32, sigma_w_dph: F, lat_deg: F) -> F {
     crate::paper::eq24_arcsec(n, sigma_w_dph, lat_deg)
@@ -176,6 +190,16 @@ mod tests {
 
     fn steps(n: u32) -> impl Iterator<Item = f64> {
         (0..n).map(move |i| i as f64 * 360.0 / n as f64)
+    }
+
+    #[test]
+    fn an_amplitude_far_from_the_earth_rate_s_is_not_it_unless_its_sd_allows() {
+        let e = amplitude_dph(43.8f64);
+        assert!(amplitude_is_earth_rate(1.3 * e, 0.0, e) && amplitude_is_earth_rate(0.5 * e, 0.0, e));
+        assert!(!amplitude_is_earth_rate(0.3 * e, 0.01 * e, e) && !amplitude_is_earth_rate(1e-6 * e, 0.0, e));
+        // A noisy run: 0.3 of it, but within 3 of its sds.
+        assert!(amplitude_is_earth_rate(0.3 * e, 0.3 * e, e));
+        assert!(!amplitude_is_earth_rate(2.0f32 * 10.86, 0.1, 10.86));
     }
 
     #[test]

@@ -13,6 +13,7 @@ use crate::student_fit;
 use nf_model::angle::{atan2_deg, wrap_180, wrap_360};
 use nf_model::fit::{FitConfig, design_row};
 use nf_model::noise::NoiseModel;
+use nf_model::uncertainty;
 
 /// Where the noise model comes from.
 #[derive(Debug, Clone, PartialEq)]
@@ -615,9 +616,6 @@ impl NoiseFit {
     }
 }
 
-/// First-harmonic amplitudes, over `WE cos(lat)`, that can be the Earth rate's.
-pub const EARTH_RATE_RATIOS: std::ops::RangeInclusive<f64> = 0.5..=1.5;
-
 /// Why the Earth rate is not resolved, if it is not: the azimuth's sigma is tens of degrees,
 /// or the amplitude is inconsistent with `WE cos(lat)` (`predicted_dph`).
 pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, predicted_dph: f64) -> Option<String> {
@@ -627,8 +625,7 @@ pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, 
         ));
     }
     let ratio = amplitude_dph / predicted_dph;
-    let off = (amplitude_dph - predicted_dph).abs();
-    if !EARTH_RATE_RATIOS.contains(&ratio) && off > 3.0 * sigma_amplitude_dph {
+    if !uncertainty::amplitude_is_earth_rate(amplitude_dph, sigma_amplitude_dph, predicted_dph) {
         let times = if (0.01..100.0).contains(&ratio) {
             format!("{ratio:.2}")
         } else {

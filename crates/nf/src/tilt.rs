@@ -8,13 +8,13 @@
 
 use crate::analysis::{TiltMethod, exact_tilt_correction};
 use crate::linfit;
-use crate::noise_fit::EARTH_RATE_RATIOS;
 use crate::recording::Recording;
 use crate::stats::f_sf;
 use crate::tilt_sense::{self, AxisReading};
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
 use nf_model::level::ShaftTilt;
+use nf_model::uncertainty::EARTH_RATE_RATIOS;
 use nf_model::uncertainty::amplitude_dph;
 
 /// Tilt (deg) above which a requested first-order correction is warned against.
@@ -322,7 +322,8 @@ fn solve(
     let (mut psi, mut amp) = fit(&corr)?;
     // No Earth rate to scale the exact correction by (constant rates, a dead gyro): where
     // Newton then fails, the fit says it is not resolved, and first order is as good as any.
-    let no_earth_rate = !EARTH_RATE_RATIOS.contains(&(amp / amplitude_dph(lat)));
+    let ratio = amp / amplitude_dph(lat);
+    let no_earth_rate = !(EARTH_RATE_RATIOS.0..=EARTH_RATE_RATIOS.1).contains(&ratio);
     let first_order = (corr, psi, amp);
     // The azimuth and the amplitude are a fixed point of "correct with them, then fit". At
     // high latitude and large tilt the map moves nearly as fast as its arguments (its slope is

@@ -112,6 +112,9 @@ pub struct SimArgs {
     json: bool,
 }
 
+/// Said where the firmware's running amplitude is not the Earth rate's.
+pub const UNRESOLVED: &str = "nf: warning: the firmware's amplitude is not the Earth rate's at this latitude (unresolved): the calibration, the latitude or the gyro is wrong, and its azimuth and sigma cannot be trusted";
+
 /// The summary `--json` prints on standard error: the truth and the run's result. The fields
 /// are in alphabetical order, the order the keys have always had.
 #[derive(Serialize)]
@@ -122,6 +125,9 @@ struct SimJson {
     error: Option<String>,
     /// The firmware's azimuth psi, deg; null without a fit.
     firmware_azimuth_deg: Option<f64>,
+    /// The firmware's running amplitude is 0.5 to 1.5 times `WE cos(lat)` at the run's
+    /// latitude; false: its azimuth and sigma cannot be trusted (and no target was taken as reached).
+    firmware_earth_rate_resolved: bool,
     /// The firmware's sigma of psi from the residuals, arcsec; null without a fit or with no
     /// degrees of freedom.
     firmware_sigma_arcsec: Option<f64>,
@@ -240,6 +246,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
             duration_s: world.t_s(),
             error: report.result.err().map(|e| e.to_string()),
             firmware_azimuth_deg: az.map(|x| f64::from(x.psi_deg)),
+            firmware_earth_rate_resolved: report.resolved,
             firmware_sigma_arcsec: az.and_then(|x| x.sigma_arcsec).map(f64::from),
             firmware_sigma_undefined: az.is_some_and(|x| x.sigma_arcsec.is_none()),
             positions: report.positions,
@@ -275,6 +282,9 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
                 u.psi_deg,
                 u.sigma_psi_deg * 3600.0,
             );
+            if !report.resolved {
+                note!("{UNRESOLVED}");
+            }
         }
     }
     match report.result {
