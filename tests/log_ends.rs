@@ -70,7 +70,7 @@ fn lines_lost_at_the_end_of_a_run_are_missed_and_a_line_beyond_it_refused() {
     );
     assert_eq!(out.lines().filter(|l| l.starts_with("9,")).count(), 1);
     // A position line after the last the run recorded: not the firmware's.
-    let last = log.lines().filter(|l| l.contains(" rec 11,")).next().unwrap();
+    let last = log.lines().find(|l| l.contains(" rec 11,")).unwrap();
     let (head, data) = last.split_once(" rec ").unwrap();
     let mut cells: Vec<String> = data.split(',').map(str::to_string).collect();
     cells[0] = "12".into();
