@@ -125,7 +125,7 @@ impl OrderError {
                 num(w, n)
             }
             OrderError::Empty => w.write_str("the listed order is empty"),
-            OrderError::OddPositions => w.write_str("opposite pairs need an even number of positions"),
+            OrderError::OddPositions => w.write_str("paired orders need an even number of positions"),
             OrderError::FewPositions => w.write_str("fewer than 3 different positions listed"),
         }
     }
@@ -494,7 +494,7 @@ mod tests {
         );
         assert_eq!(
             says(OrderError::OddPositions),
-            "opposite pairs need an even number of positions"
+            "paired orders need an even number of positions"
         );
     }
 
