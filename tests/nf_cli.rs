@@ -620,7 +620,7 @@ fn log_turns_a_defmt_log_into_the_same_recording() {
     let (code, _, err) = nf(&["log", &path, "-o", &out]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("the copy is dropped") && err.contains("not in the order"),
+        err.contains("the copy is dropped") && err.contains("not in the order") && err.contains("after index"),
         "{err}"
     );
     assert_eq!(std::fs::read_to_string(&out).unwrap(), rec.text());

@@ -54,7 +54,8 @@ impl LineAssembler {
                 Assembled::Line(&self.buf)
             });
         }
-        if self.discarding {
+        // Leading blanks are not kept: a line of blanks is an empty line, with no reply.
+        if self.discarding || (self.buf.is_empty() && (byte == b' ' || byte == b'\t')) {
             return None;
         }
         // A byte outside ASCII still counts toward the length; ASCII needs no UTF-8 decoder.
@@ -256,10 +257,11 @@ impl Session {
         let _ = text::write_f32(&mut a, c.latitude_deg, 5);
         let _ = a.push_str(" tilt_limit ");
         let _ = text::write_f32(&mut a, c.tilt_limit_deg, 4);
+        let _ = a.push_str(" tilt_policy ");
         let _ = a.push_str(if c.tilt_policy == TiltPolicy::Refuse {
-            " tilt_policy refuse"
+            "refuse"
         } else {
-            " tilt_policy warn"
+            "warn"
         });
         let _ = a.push_str(" target_arcsec ");
         let _ = text::write_f32(&mut a, c.target_arcsec, 2);
@@ -359,12 +361,13 @@ mod tests {
         assert_eq!(feed(&mut a, &long), ["<too long>", "STATUS"]);
     }
 
-    /// The assembler's contract, written plainly: lines end at CR or LF, empty ones vanish, a
-    /// line over [`MAX_COMMAND`] bytes is too long, else one with a byte outside ASCII is not
-    /// text.
+    /// The assembler's contract, written plainly: lines end at CR or LF, leading blanks are
+    /// dropped and empty lines vanish, a line over [`MAX_COMMAND`] bytes is too long, else one
+    /// with a byte outside ASCII is not text.
     fn model(bytes: &[u8]) -> std::vec::Vec<std::string::String> {
         bytes
             .split(|&b| b == b'\n' || b == b'\r')
+            .map(|l| &l[l.iter().take_while(|&&b| b == b' ' || b == b'\t').count()..])
             .filter(|l| !l.is_empty())
             .map(|l| match l {
                 l if l.len() > MAX_COMMAND => "<too long>".into(),
@@ -396,6 +399,27 @@ mod tests {
                 bytes.push(b'\n');
             }
             assert_eq!(feed(&mut a, &bytes), model(&bytes), "{bytes:?}");
+        }
+    }
+
+    #[test]
+    fn a_line_of_blanks_is_answered_as_an_empty_line_is_not_at_all() {
+        let (mut session, mut a) = (Session::default(), LineAssembler::default());
+        for line in [&b"   \t\r\n"[..], b"\r\n", b" STATUS \n"] {
+            let mut replies = std::vec::Vec::new();
+            for &b in line {
+                if let Some(event) = a.push(b) {
+                    replies.extend(
+                        session
+                            .handle(event)
+                            .1
+                            .iter()
+                            .map(|l| std::string::String::from(l.as_str())),
+                    );
+                }
+            }
+            let want: &[&str] = if line.starts_with(b" S") { &["STATUS idle"] } else { &[] };
+            assert_eq!(replies, want, "{line:?}");
         }
     }
 

@@ -162,6 +162,14 @@ impl Log {
 /// The recording lines found in a log, in order.
 pub fn extract(log: &[u8]) -> Log {
     let log = log.strip_prefix("\u{FEFF}".as_bytes()).unwrap_or(log);
+    // A terminal that ends lines with a lone CR: read as line breaks.
+    let crs: Vec<u8>;
+    let log = if log.contains(&b'\r') && !log.contains(&b'\n') {
+        crs = log.iter().map(|&b| if b == b'\r' { b'\n' } else { b }).collect();
+        &crs[..]
+    } else {
+        log
+    };
     let (mut rec, mut warnings, mut noisy, mut ends) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     // A log cut off mid-line (the probe unplugged, a copy stopped) ends without a line break:
     // its last line may have lost fields or digits, 3.722 for 3.7222496.
@@ -375,6 +383,12 @@ INFO  result: psi 65.5 deg, sigma undefined (0 dof), amplitude 10.8 deg/h, n 3
             ends[2].text,
             "run ended: RunError { stage: Position(9), fault: Aborted }; 10 positions kept"
         );
+    }
+
+    #[test]
+    fn lone_carriage_returns_end_lines() {
+        let l = extract(b"INFO  rec # format = northfinder-recording/1\rINFO  rec index,t_s\rINFO  rec 0,1\r");
+        assert_eq!(l.rec.iter().map(|(n, _)| *n).collect::<Vec<_>>(), [1, 2, 3]);
     }
 
     #[test]

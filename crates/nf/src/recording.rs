@@ -510,13 +510,13 @@ const QUARTER_SLACK: f64 = 0.2;
 /// another order (with a warning), and `t_s` must then increase, since a later visit cannot
 /// be earlier.
 fn in_visiting_order(rows: &mut [Row], warnings: &mut Vec<Error>) -> Result<(), Error> {
-    if rows.windows(2).any(|w| w[1].index < w[0].index) {
+    let first = rows.windows(2).find(|w| w[1].index < w[0].index);
+    if let Some(((ai, al), (bi, bl))) = first.map(|w| ((w[0].index, w[0].line), (w[1].index, w[1].line))) {
+        let what = format!(
+            "the lines are not in the order of their index (index {bi} on line {bl} after index {ai} on line {al}): they are taken in index order, the visiting order"
+        );
         rows.sort_by_key(|r| r.index);
-        warnings.push(Error {
-            line: 0,
-            what: "the lines are not in the order of their index: they are taken in index order, the visiting order"
-                .into(),
-        });
+        warnings.push(Error { line: bl, what });
     }
     missing_visits(rows, warnings);
     match rows.windows(2).find(|w| w[1].t_s <= w[0].t_s) {
