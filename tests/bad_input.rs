@@ -418,3 +418,49 @@ fn the_suite_keeps_its_misses_only_where_it_can_write() {
     assert!(err.contains("misses"), "{err}");
     refused(&["diagnose", &file, "--keep", &inside], "--keep");
 }
+
+#[test]
+fn an_output_in_a_folder_that_does_not_exist_is_refused_before_any_work() {
+    let r = &recording("for-outputs.csv", "8");
+    let log = write("for-outputs.log", "INFO  rec # format = northfinder-recording/1\n");
+    let gone = tmp("no-such-folder/x.svg");
+    let gone_csv = tmp("no-such-folder/x.csv");
+    let static_log = tmp("for-outputs-static.csv");
+    let mut f = std::fs::File::create(&static_log).unwrap();
+    nf_twin::StaticLog {
+        noise: NoiseModel::white(0.005, 2.0),
+        rate_dph: 1.0,
+        sample_rate_hz: 10.0,
+        duration_s: 3600.0,
+        seed: 1,
+    }
+    .write(&mut f)
+    .unwrap();
+    let inst = tmp("for-outputs.toml");
+    let (code, _, err) = nf(&[
+        "simulate",
+        "--n",
+        "8",
+        "--save-config",
+        &inst,
+        "-o",
+        &tmp("for-outputs-2.csv"),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let cases: [&[&str]; 9] = [
+        &["fit", r, "--plot", &gone],
+        &["diagnose", r, "--report", &gone],
+        &["allan", &static_log, "--out", &gone_csv],
+        &["log", &log, "-o", &gone_csv],
+        &["paper", "--plot", &gone],
+        &["plan", "--plot", &gone],
+        &["simulate", "--n", "8", "-o", &gone_csv],
+        &["simulate", "--n", "8", "--save-config", &gone_csv],
+        &["diagnose", r, "--sim", &inst, "--fix", &gone_csv],
+    ];
+    for args in cases {
+        let (code, out, err) = nf(args);
+        assert!(code == 2 && out.is_empty(), "{args:?}: {code} {out}{err}");
+        assert!(err.contains("no-such-folder does not exist"), "{args:?}: {err}");
+    }
+}

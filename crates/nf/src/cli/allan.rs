@@ -64,6 +64,7 @@ fn g(x: f64) -> String {
 }
 
 pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
+    super::folders_exist(&[&a.plot, &a.report, &a.out])?;
     let text = crate::textfile::read_text(&a.file).map_err(|e| Fail(e.at(&a.file), 2))?;
     let src = Source::parse(&text, a.sample_rate, a.keep_spikes).map_err(|e| Fail(e.at(&a.file), 2))?;
     // A log the terms cannot be fitted to (one that does not vary) is bad input, as a
@@ -122,7 +123,7 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
             g(tau(points.last()))
         ));
         std::fs::write(path, noise_file::write(&fit.model, &comments))
-            .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
+            .map_err(|e| Fail(format!("cannot write {path}: {e}"), 2))?;
     }
     if let Some(report) = &a.report {
         let m = &fit.model;

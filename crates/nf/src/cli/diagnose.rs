@@ -79,10 +79,8 @@ pub fn cmd_diagnose(a: DiagnoseArgs) -> Result<(), Fail> {
         .recording
         .as_deref()
         .ok_or_else(|| Fail("give a recording, or --evaluate".into(), 2))?;
+    super::folders_exist(&[&a.plot, &a.report, &a.fix])?;
     let rec = read_recording(path)?;
-    if let Some(out) = &a.fix {
-        super::folder_exists(out)?;
-    }
     let file = match &a.sim {
         Some(p) => Some(InstrumentFile::read(p).map_err(|e| Fail(e, 2))?),
         None => None,

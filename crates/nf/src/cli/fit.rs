@@ -72,6 +72,7 @@ pub struct FitArgs {
 }
 
 pub fn cmd_fit(a: FitArgs) -> Result<(), Fail> {
+    super::folders_exist(&[&a.plot, &a.report])?;
     let rec = read_recording(&a.recording)?;
     let opt = options(&a)?;
     check_positions(&a, &rec, &opt).map_err(|e| Fail(format!("{}: {e}", a.recording), 2))?;

@@ -57,6 +57,7 @@ fn describe(g: &IndexGap) -> String {
 }
 
 pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
+    super::folders_exist(&[&a.out])?;
     let mut bytes = Vec::new();
     if a.log == "-" {
         std::io::stdin()

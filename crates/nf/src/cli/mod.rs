@@ -145,8 +145,13 @@ pub(crate) fn read_recording(path: &str) -> Result<Recording, Fail> {
     Ok(rec)
 }
 
+/// Refuses, before any work, output paths whose folders do not exist (bad input, exit 2).
+pub(crate) fn folders_exist(paths: &[&Option<String>]) -> Result<(), Fail> {
+    paths.iter().filter_map(|p| p.as_deref()).try_for_each(folder_exists)
+}
+
 /// Refuses, before any work, an output path whose folder does not exist.
-pub(crate) fn folder_exists(path: &str) -> Result<(), Fail> {
+fn folder_exists(path: &str) -> Result<(), Fail> {
     let parent = std::path::Path::new(path)
         .parent()
         .filter(|p| !p.as_os_str().is_empty());
@@ -161,7 +166,7 @@ pub(crate) fn folder_exists(path: &str) -> Result<(), Fail> {
 
 pub(crate) fn write_out(out: &Option<String>, text: &str) -> Result<(), Fail> {
     match out {
-        Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 1)),
+        Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 2)),
         None => Ok(std::io::stdout().lock().write_all(text.as_bytes())?),
     }
 }

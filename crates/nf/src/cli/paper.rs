@@ -19,6 +19,7 @@ pub struct PaperArgs {
 }
 
 pub fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
+    super::folders_exist(&[&a.plot])?;
     let ns = [72u32, 90, 120, 180, 240];
     let sws = [0.001, 0.002, 0.003, 0.005, 0.01];
     let etas = [0.0, 0.001, 0.003, 0.01, 0.03, 0.1];

@@ -136,6 +136,7 @@ fn unreachable(p: &plan_noise::Plan, max_time_s: f64) -> String {
 }
 
 pub fn cmd_plan(a: PlanArgs) -> Result<(), Fail> {
+    super::folders_exist(&[&a.plot])?;
     let p = Planned::new(&a)?;
     if let Some(path) = &a.plot {
         plot::write(path, &[p.panel(&a)])?;

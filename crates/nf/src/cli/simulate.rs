@@ -203,6 +203,7 @@ fn from_flags(a: &SimArgs) -> Result<InstrumentFile, Fail> {
 }
 
 pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
+    super::folders_exist(&[&a.out, &a.save_config])?;
     let mut file = match &a.config {
         Some(path) => {
             if a.noise_terms.any() {
