@@ -123,7 +123,7 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
             g(tau(points.last()))
         ));
         std::fs::write(path, noise_file::write(&fit.model, &comments))
-            .map_err(|e| Fail(format!("cannot write {path}: {e}"), 2))?;
+            .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
     }
     if let Some(report) = &a.report {
         let m = &fit.model;

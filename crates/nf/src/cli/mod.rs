@@ -166,7 +166,7 @@ fn folder_exists(path: &str) -> Result<(), Fail> {
 
 pub(crate) fn write_out(out: &Option<String>, text: &str) -> Result<(), Fail> {
     match out {
-        Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 2)),
+        Some(p) => std::fs::write(p, text).map_err(|e| Fail(format!("cannot write {p}: {e}"), 1)),
         None => Ok(std::io::stdout().lock().write_all(text.as_bytes())?),
     }
 }
