@@ -357,8 +357,6 @@ fn cli_json_plot_and_the_noise_file_round_trip() {
     );
 }
 
-/// One fill value of -9999 in an hour at 10 Hz: left out and named by its line, N as from
-/// the clean log; kept (`--keep-spikes`), N many times too large.
 #[test]
 fn a_floor_not_reached_bounds_b_from_above() {
     // Flicker at 10 deg/h under white noise: an hour at 100 Hz ends on the floor, where the
@@ -397,6 +395,8 @@ fn a_floor_not_reached_bounds_b_from_above() {
     assert!(bounds.iter().all(|(_, b)| *b > 10.0), "{bounds:?}");
 }
 
+/// One fill value of -9999 in an hour at 10 Hz: left out and named by its line, N as from
+/// the clean log; kept (`--keep-spikes`), N many times too large.
 #[test]
 fn a_spike_is_left_out_and_named_by_its_line() {
     let truth = NoiseModel {
