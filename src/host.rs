@@ -235,7 +235,7 @@ impl Summary<'_> {
         if report.under_noise.is_some() && !report.resolved {
             writeln!(
                 o,
-                "WARNING: the amplitude is not the Earth rate's at this latitude (unresolved): the calibration, the latitude or the gyro is wrong, and the azimuth and its sigma cannot be trusted"
+                "WARNING: the Earth rate is not resolved: the running amplitude is not WE cos(lat) within half (a calibration, a latitude or a gyro wrong) or the sigma is 10 deg or more (the noise hides it); the azimuth and its sigma cannot be trusted"
             )?;
         }
         if let Some(u) = report.under_noise {

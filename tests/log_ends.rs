@@ -116,3 +116,16 @@ fn a_run_stopped_at_its_target_is_said_to_have_stopped_early() {
         "{err}"
     );
 }
+
+#[test]
+fn a_run_that_recorded_nothing_is_said_so() {
+    // Refused at levelling: no recording line, the run's end says why.
+    let (code, log, rec) = main_run("refused.csv", &["--positions", "12", "--tilt", "1"]);
+    assert!(code == 1 && rec.is_none(), "{log}");
+    let path = write("refused.log", &log);
+    let (code, _, err) = nf(&["log", &path]);
+    assert!(
+        code == 2 && err.contains("the run recorded nothing: run ended:") && err.contains("0 positions kept"),
+        "{err}"
+    );
+}

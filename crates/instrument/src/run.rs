@@ -23,7 +23,7 @@ use nf_model::noise_terms::NoiseTerms;
 use nf_model::order::{Order, OrderError};
 use nf_model::running::{Running, RunningGls};
 use nf_model::text;
-use nf_model::uncertainty::{self, EARTH_RATE_RATIOS};
+use nf_model::uncertainty::{self, EARTH_RATE_RATIOS, RESOLVED_SIGMA_DEG};
 
 /// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
 pub trait GyroSource {
@@ -518,13 +518,16 @@ where
     }
 }
 
-/// Whether the running azimuth's amplitude can be the Earth rate's at `lat_deg`: within
-/// [`EARTH_RATE_RATIOS`] of it (a scale set a million times off gave an azimuth 113 deg off at
-/// a sigma of 5"). Its own sd is not allowed for, as the host's rule does: where it matters
-/// the azimuth's sigma is tens of degrees, and the band costs less flash alone.
+/// Whether the running azimuth resolves the Earth rate at `lat_deg`: its amplitude within
+/// [`EARTH_RATE_RATIOS`] of the Earth rate's (a scale set a million times off gave an azimuth
+/// 113 deg off at a sigma of 5") and its sigma under [`RESOLVED_SIGMA_DEG`]. The amplitude's
+/// own sd is not allowed for, as the host's rule does: where it matters the azimuth's sigma
+/// is tens of degrees, and the band costs less flash alone.
 fn resolved(r: &Running<f32>, lat_deg: f32) -> bool {
     let ratio = r.amplitude_dph / uncertainty::amplitude_dph(lat_deg);
-    ratio >= EARTH_RATE_RATIOS.0 as f32 && ratio <= EARTH_RATE_RATIOS.1 as f32
+    ratio >= EARTH_RATE_RATIOS.0 as f32
+        && ratio <= EARTH_RATE_RATIOS.1 as f32
+        && r.sigma_psi_deg < RESOLVED_SIGMA_DEG as f32
 }
 
 fn summary(r: &FitResult<f32>) -> Azimuth {
@@ -640,11 +643,8 @@ where
             let target = cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec;
             if target && resolved(&r, cfg.latitude_deg) {
                 info!(
-                    "target {} arcsec reached after {} of {} dwells: sigma {} arcsec under the noise model",
-                    cfg.target_arcsec,
-                    r.dwells,
-                    cfg.order.visits(cfg.positions),
-                    sigma_arcsec
+                    "target {} arcsec reached after {} dwells: sigma {} arcsec under the noise model",
+                    cfg.target_arcsec, r.dwells, sigma_arcsec
                 );
                 report.target_reached = true;
                 break;
@@ -667,7 +667,7 @@ where
     report.resolved = report.under_noise.is_some_and(|r| resolved(&r, cfg.latitude_deg));
     if report.under_noise.is_some() && !report.resolved {
         warn!(
-            "result: the amplitude is not the Earth rate's at this latitude: the calibration, the latitude or the gyro is wrong, and the azimuth and its sigma cannot be trusted"
+            "result: the Earth rate is not resolved: the running amplitude is not WE cos(lat) within half (a calibration, a latitude or a gyro wrong) or the sigma is 10 deg or more; the azimuth and its sigma cannot be trusted"
         );
     }
     match (&report.result, &report.azimuth) {

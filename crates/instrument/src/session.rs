@@ -158,6 +158,8 @@ impl Session {
             Command::Set(_) | Command::Start | Command::Save | Command::Defaults if self.running => {
                 (Action::None, line("ERR a run is in progress"))
             }
+            // A record that makes no run would not load at boot: refused, as START refuses it.
+            Command::Save | Command::Start if let Some(why) = self.no_run() => (Action::None, why),
             Command::Save => (Action::Save, Reply::new()),
             Command::Defaults => {
                 self.cfg = RunConfig::DEFAULT;
@@ -181,21 +183,26 @@ impl Session {
                 }
             }
             // Settings that make no run are refused here, with why, not by a run that fails.
-            Command::Start => match self.cfg.order.check(self.cfg.positions) {
-                Err(e) => (Action::None, error(LinkError::Order(e))),
-                // The one noise model the link's numbers can set that makes no run.
-                Ok(()) if self.cfg.noise.gm_sigma_dph > 0.0 && self.cfg.noise.gm_tau_s <= 0.0 => {
-                    (Action::None, line("ERR gm_sigma needs gm_tau"))
-                }
-                Ok(()) => {
-                    self.running = true;
-                    (Action::Start, line("OK"))
-                }
-            },
+            Command::Start => {
+                self.running = true;
+                (Action::Start, line("OK"))
+            }
             Command::Abort if self.running => (Action::Abort, line("OK")),
             Command::Abort => (Action::None, line("ERR no run to abort")),
             Command::Status => (Action::None, self.status()),
             Command::Config => (Action::None, self.config()),
+        }
+    }
+
+    /// Why the settings make no run, as the answer: an order that does not fit `n`, or the one
+    /// noise model the link's numbers can set that is none.
+    fn no_run(&self) -> Option<Reply> {
+        match self.cfg.order.check(self.cfg.positions) {
+            Err(e) => Some(error(LinkError::Order(e))),
+            Ok(()) if self.cfg.noise.gm_sigma_dph > 0.0 && self.cfg.noise.gm_tau_s <= 0.0 => {
+                Some(line("ERR gm_sigma needs gm_tau"))
+            }
+            Ok(()) => None,
         }
     }
 

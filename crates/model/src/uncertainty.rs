@@ -15,6 +15,11 @@ pub fn amplitude_dph<F: Float>(lat_deg: F) -> F {
 /// factor and the fit's own error leave far less than this).
 pub const EARTH_RATE_RATIOS: (f64, f64) = (0.5, 1.5);
 
+/// An azimuth's sigma, deg, from which the Earth rate is not resolved: the gyro's noise hides
+/// it (three positions bunched in a few degrees gave 137 deg and an amplitude 13 times the
+/// Earth rate's).
+pub const RESOLVED_SIGMA_DEG: f64 = 10.0;
+
 /// Whether a fitted first-harmonic amplitude (deg/h, with its sd) can be the Earth rate's,
 /// `predicted_dph`: within [`EARTH_RATE_RATIOS`] of it, or within 3 of its sds of it. Off it,
 /// the rates are not what the fit takes them for (a calibration's scale wrong by orders, rates

@@ -162,10 +162,12 @@ impl Log {
 /// The recording lines found in a log, in order.
 pub fn extract(log: &[u8]) -> Log {
     let log = log.strip_prefix("\u{FEFF}".as_bytes()).unwrap_or(log);
-    // A terminal that ends lines with a lone CR: read as line breaks.
+    // A terminal that ends lines with a lone CR, in all the log or in part of it: a CR not
+    // followed by LF is a line break (CRLF stays one).
+    let lone = |i: usize| log[i] == b'\r' && log.get(i + 1) != Some(&b'\n');
     let crs: Vec<u8>;
-    let log = if log.contains(&b'\r') && !log.contains(&b'\n') {
-        crs = log.iter().map(|&b| if b == b'\r' { b'\n' } else { b }).collect();
+    let log = if (0..log.len()).any(lone) {
+        crs = (0..log.len()).map(|i| if lone(i) { b'\n' } else { log[i] }).collect();
         &crs[..]
     } else {
         log
@@ -389,6 +391,12 @@ INFO  result: psi 65.5 deg, sigma undefined (0 dof), amplitude 10.8 deg/h, n 3
     fn lone_carriage_returns_end_lines() {
         let l = extract(b"INFO  rec # format = northfinder-recording/1\rINFO  rec index,t_s\rINFO  rec 0,1\r");
         assert_eq!(l.rec.iter().map(|(n, _)| *n).collect::<Vec<_>>(), [1, 2, 3]);
+        // Mixed with CRLF and LF in one log.
+        let l = extract(
+            b"INFO  rec # format = northfinder-recording/1\rINFO  rec index,t_s\r\nINFO  rec 0,1\nINFO  rec 1,2\r",
+        );
+        let lines: Vec<&str> = l.rec.iter().map(|(_, s)| s.as_str()).collect();
+        assert_eq!(lines, ["# format = northfinder-recording/1", "index,t_s", "0,1", "1,2"]);
     }
 
     #[test]

@@ -619,7 +619,7 @@ impl NoiseFit {
 /// Why the Earth rate is not resolved, if it is not: the azimuth's sigma is tens of degrees,
 /// or the amplitude is inconsistent with `WE cos(lat)` (`predicted_dph`).
 pub fn unresolved(sigma_deg: f64, amplitude_dph: f64, sigma_amplitude_dph: f64, predicted_dph: f64) -> Option<String> {
-    if sigma_deg.is_nan() || sigma_deg >= 10.0 {
+    if sigma_deg.is_nan() || sigma_deg >= uncertainty::RESOLVED_SIGMA_DEG {
         return Some(format!(
             "the azimuth's uncertainty is {sigma_deg:.1} deg: the gyro noise hides the Earth rate"
         ));

@@ -95,6 +95,17 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
     for w in &log.warnings {
         note!("nf: warning: {}", w.at(&a.log));
     }
+    if let Some(e) = log
+        .ends
+        .iter()
+        .find(|e| e.kept == Some(0))
+        .filter(|_| log.rec.is_empty())
+    {
+        return Err(Fail(
+            format!("{}:{}: the run recorded nothing: {}", a.log, e.line, e.text),
+            2,
+        ));
+    }
     if log.rec.is_empty() {
         return Err(Fail(
             format!("{}: no 'rec' lines: is this the firmware's defmt log?", a.log),

@@ -112,8 +112,8 @@ pub struct SimArgs {
     json: bool,
 }
 
-/// Said where the firmware's running amplitude is not the Earth rate's.
-pub const UNRESOLVED: &str = "nf: warning: the firmware's amplitude is not the Earth rate's at this latitude (unresolved): the calibration, the latitude or the gyro is wrong, and its azimuth and sigma cannot be trusted";
+/// Said where the firmware's running azimuth does not resolve the Earth rate.
+pub const UNRESOLVED: &str = "nf: warning: the firmware's running azimuth does not resolve the Earth rate: its amplitude is not WE cos(lat) within half (a calibration, a latitude or a gyro wrong) or its sigma is 10 deg or more (the noise hides it); its azimuth and sigma cannot be trusted";
 
 /// The summary `--json` prints on standard error: the truth and the run's result. The fields
 /// are in alphabetical order, the order the keys have always had.
