@@ -227,8 +227,8 @@ pub struct RunReport {
     pub under_noise: Option<Running<f32>>,
     /// The run ended early: the running sigma reached the target.
     pub target_reached: bool,
-    /// The running azimuth's amplitude can be the Earth rate's at the run's latitude
-    /// ([`resolved`]); off it neither the azimuth nor its sigma can be trusted.
+    /// The running azimuth resolves the Earth rate at the run's latitude ([`resolved`]);
+    /// where not, neither the azimuth nor its sigma can be trusted.
     pub resolved: bool,
 }
 

@@ -182,7 +182,6 @@ impl Session {
                     }
                 }
             }
-            // Settings that make no run are refused here, with why, not by a run that fails.
             Command::Start => {
                 self.running = true;
                 (Action::Start, line("OK"))
