@@ -14,8 +14,7 @@ use crate::tilt_sense::{self, AxisReading};
 use nf_model::angle::wrap_180;
 use nf_model::fit::{AzimuthFit, FitConfig, Obs, vertical_earth_rate_dph};
 use nf_model::level::ShaftTilt;
-use nf_model::uncertainty::EARTH_RATE_RATIOS;
-use nf_model::uncertainty::amplitude_dph;
+use nf_model::uncertainty::{amplitude_dph, amplitude_is_earth_rate};
 
 /// Tilt (deg) above which a requested first-order correction is warned against.
 const FIRST_ORDER_MAX_DEG: f64 = 1.0;
@@ -322,8 +321,7 @@ fn solve(
     let (mut psi, mut amp) = fit(&corr)?;
     // No Earth rate to scale the exact correction by (constant rates, a dead gyro): where
     // Newton then fails, the fit says it is not resolved, and first order is as good as any.
-    let ratio = amp / amplitude_dph(lat);
-    let no_earth_rate = !(EARTH_RATE_RATIOS.0..=EARTH_RATE_RATIOS.1).contains(&ratio);
+    let no_earth_rate = !amplitude_is_earth_rate(amp, 0.0, amplitude_dph(lat));
     let first_order = (corr, psi, amp);
     // The azimuth and the amplitude are a fixed point of "correct with them, then fit". At
     // high latitude and large tilt the map moves nearly as fast as its arguments (its slope is
