@@ -463,4 +463,18 @@ fn an_output_in_a_folder_that_does_not_exist_is_refused_before_any_work() {
         assert!(code == 2 && out.is_empty(), "{args:?}: {code} {out}{err}");
         assert!(err.contains("no-such-folder does not exist"), "{args:?}: {err}");
     }
+    // A file where the folder should be, and a folder where the file should be.
+    let under_a_file = format!("{r}/x.svg");
+    let a_folder = tmp("a-folder.svg");
+    std::fs::create_dir_all(&a_folder).unwrap();
+    for (path, why) in [
+        (under_a_file.as_str(), "is a file, not a folder"),
+        (&a_folder, "it is a folder"),
+    ] {
+        let (code, out, err) = nf(&["fit", r, "--plot", path]);
+        assert!(
+            code == 2 && out.is_empty() && err.contains(why),
+            "{path}: {code} {out}{err}"
+        );
+    }
 }

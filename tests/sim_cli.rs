@@ -182,7 +182,7 @@ fn diagnose_against_a_simulation_names_what_it_lacks_and_the_fix_reproduces_the_
     assert!(
         std::fs::read_to_string(&svg)
             .unwrap()
-            .contains("Allan deviation of the residuals")
+            .contains("Allan deviation in time order of the residuals beyond harmonics 1-4")
     );
     let fixed_text = std::fs::read_to_string(&fixed).unwrap();
     assert!(fixed_text.starts_with("# north-finder instrument") && fixed_text.contains("bias_drift"));

@@ -123,6 +123,10 @@ fn a_bias_jump_is_found_with_its_time_and_size() {
     let dot = |a: &dyn Fn(&nf::diagnose::Point) -> f64| d.points.iter().map(|p| a(p) * p.fitted).sum::<f64>();
     let slope = dot(&|p| p.before) / dot(&|p| p.fitted);
     assert!((slope - 0.08 / size.value).abs() < 0.2, "{slope} {size:?}");
+    // Drawn by least squares, before and after are centred and the step is what they differ by.
+    let mean = |a: &dyn Fn(&nf::diagnose::Point) -> f64| d.points.iter().map(a).sum::<f64>() / d.points.len() as f64;
+    assert!(mean(&|p| p.before).abs() < 1e-9 && mean(&|p| p.after).abs() < 1e-9);
+    assert!(mean(&|p| p.after.powi(2)) < 0.5 * mean(&|p| p.before.powi(2)));
 }
 
 #[test]

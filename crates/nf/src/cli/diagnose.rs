@@ -221,12 +221,12 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
         y_label: "residual (deg/h)".into(),
         series: vec![
             Series {
-                name: "before: Eq. 7".into(),
+                name: "before: Eq. 7 by least squares".into(),
                 points: pick(x, |p| p.before),
                 style: Style::Points,
             },
             Series {
-                name: "after: with the findings".into(),
+                name: "after: less the findings".into(),
                 points: pick(x, |p| p.after),
                 style: Style::Points,
             },
@@ -239,9 +239,13 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
         log_x: false,
         log_y: false,
     };
+    let not_resolved = match d.unresolved {
+        Some(_) => " (the Earth rate is NOT RESOLVED, no azimuth)",
+        None => "",
+    };
     vec![
         panel(
-            "residuals against the encoder angle",
+            &format!("residuals against the encoder angle{not_resolved}"),
             "encoder angle gamma (deg)",
             |p| p.gamma_deg,
         ),

@@ -324,11 +324,12 @@ pub fn panels(s: &SimReport) -> Vec<Panel> {
             log_y: false,
         },
         Panel {
-            title: "Allan deviation of the residuals in time order".into(),
+            title: "Allan deviation in time order of the residuals beyond harmonics 1-4".into(),
             x_label: "positions averaged".into(),
             y_label: "Allan deviation (deg/h)".into(),
+            // The recording as points: after the fix the simulation's line should lie on it.
             series: vec![
-                series("recording", allan(&s.before, true), Style::Line),
+                series("recording", allan(&s.before, true), Style::Points),
                 series("simulation (mean of replays)", allan(&s.before, false), Style::Line),
                 series("after the fix", allan(&s.fixed.after, false), Style::Line),
             ],

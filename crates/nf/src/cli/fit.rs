@@ -189,30 +189,44 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
         0 => String::new(),
         k => format!(" ({k} far-off dwell(s) held out, not drawn)"),
     };
-    let curve: Vec<(f64, f64)> = (0..=360)
-        .map(|g| {
-            let g = g as f64;
-            (g, an.fit.predict(g, an.fit.t0_s, None))
-        })
-        .collect();
+    // The curve is the fit at the run's start: each dwell is drawn as the curve plus its
+    // residual, so the tilt and drift the fit removed are removed from what is drawn too.
+    let at_start = |g: f64| an.fit.predict(g, an.fit.t0_s, None);
+    let curve: Vec<(f64, f64)> = (0..=360).map(|g| (g as f64, at_start(g as f64))).collect();
+    let cfg = &an.fit.cfg;
+    let removed: Vec<&str> = [
+        (an.corrections.iter().any(|c| *c != 0.0), "tilt"),
+        (cfg.drift != Drift::None, "drift"),
+    ]
+    .iter()
+    .filter_map(|(on, what)| on.then_some(*what))
+    .collect();
+    let measured = match removed.as_slice() {
+        [] => "measured".to_string(),
+        r => format!("measured, fitted {} removed", r.join(" and ")),
+    };
+    let model = match cfg.harmonics {
+        1 => "A cos + B sin + C".to_string(),
+        h => format!("A cos + B sin + C + harmonics 2..{h}"),
+    };
     let mut panels = vec![Panel {
         title: match an.gls.unresolved(an.amplitude_predicted_dph) {
             Some(_) => format!("gyro output: the Earth rate is NOT RESOLVED, no azimuth{not_drawn}"),
             None => format!(
-                "gyro output and its least-squares fit, psi = {:.4} deg{not_drawn}",
-                an.fit.psi_deg
+                "gyro output; least-squares psi {:.4} deg, the result (noise model) {:.4} deg{not_drawn}",
+                an.fit.psi_deg, an.gls.psi_deg
             ),
         },
         x_label: "encoder angle gamma (deg)".into(),
         y_label: "rate (deg/h)".into(),
         series: vec![
             Series {
-                name: "measured".into(),
-                points: drawn().map(|p| (p[0], p[2])).collect(),
+                name: measured,
+                points: drawn().map(|p| (p[0], at_start(p[0]) + p[4])).collect(),
                 style: Style::Points,
             },
             Series {
-                name: "fitted A cos + B sin + C".into(),
+                name: format!("least-squares fit {model}"),
                 points: curve,
                 style: Style::Line,
             },
@@ -226,14 +240,60 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
             title: format!("residuals, RSS = {:.3e} (deg/h)^2{not_drawn}", an.fit.rss),
             x_label: "encoder angle gamma (deg)".into(),
             y_label: "residual (deg/h)".into(),
-            series: vec![Series {
-                name: "residual".into(),
-                points: drawn().map(|p| (p[0], p[4])).collect(),
-                style: Style::Points,
-            }],
+            // The zero line over the whole turn keeps this panel's angle axis the one above.
+            series: vec![
+                Series {
+                    name: "residual".into(),
+                    points: drawn().map(|p| (p[0], p[4])).collect(),
+                    style: Style::Points,
+                },
+                Series {
+                    name: "zero".into(),
+                    points: vec![(0.0, 0.0), (360.0, 0.0)],
+                    style: Style::Line,
+                },
+            ],
             log_x: false,
             log_y: false,
         });
     }
     panels
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_plot_draws_each_dwell_off_the_curve_by_its_residual_with_the_tilt_and_drift_removed() {
+        // 36 positions, a shaft tilted 1 deg towards 40 deg (what the inclinometer reads), a
+        // drift, and a little noise: the raw rates are far off the level curve.
+        let mut rng = nf_model::rng::Rng::new(5);
+        let mut text = String::from("# format = northfinder-recording/1\n# latitude_deg = 60\n");
+        text.push_str("index,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg\n");
+        for k in 0..36 {
+            let g = k as f64 * 10.0;
+            let (x, y) = (-(g - 40f64).to_radians().cos(), (g - 40f64).to_radians().sin());
+            let t = 3.0 * k as f64;
+            let rate = 7.5 * (g + 30.0).to_radians().cos() + 0.3 + 0.002 * t + 0.003 * rng.gauss();
+            text.push_str(&format!("{k},{t},{g},{rate},{x},{y}\n"));
+        }
+        let rec = Recording::parse(&text).unwrap();
+        let opt = Options {
+            drift: Drift::Linear,
+            replicates: 0,
+            ..Options::default()
+        };
+        let an = analyse(&rec, &opt).unwrap();
+        let panels = fit_panels(&an);
+        let (measured, curve) = (&panels[0].series[0].points, &panels[0].series[1].points);
+        let residuals = &panels[1].series[0].points;
+        assert!(panels[0].series[0].name.contains("tilt and drift removed"));
+        for ((g, m), (g2, r)) in measured.iter().zip(residuals) {
+            let on_curve = curve[*g as usize];
+            assert_eq!((on_curve.0, *g2), (*g, *g));
+            assert!((m - on_curve.1 - r).abs() < 1e-9, "gamma {g}: {m} {} {r}", on_curve.1);
+            assert!(r.abs() < 0.02, "gamma {g}: residual {r}");
+        }
+    }
 }

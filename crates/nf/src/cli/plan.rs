@@ -277,7 +277,19 @@ impl Planned {
                     points: under_noise,
                     style: Style::Line,
                 },
-            ],
+            ]
+            .into_iter()
+            .chain(self.noise_total.map(|v| Series {
+                name: format!("n = {} asked", a.n),
+                points: vec![(a.n as f64, v)],
+                style: Style::Points,
+            }))
+            .chain(a.target.map(|t| Series {
+                name: format!("target {t} arcsec"),
+                points: vec![(10.0, t), (360.0, t)],
+                style: Style::Line,
+            }))
+            .collect(),
             log_x: false,
             log_y: false,
         }

@@ -118,10 +118,11 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
     } else {
         None
     };
-    let models: Vec<Option<(f64, Verdict)>> = weights
+    let kept = merged(&designs, met, &weights);
+    let models: Vec<Option<(f64, Verdict)>> = kept
         .iter()
         .zip(&judged)
-        .map(|(w, j)| Some((*w, j.as_ref()?.verdict.calibrated(calibration))))
+        .map(|(w, j)| Some(((*w)?, j.as_ref()?.verdict.calibrated(calibration))))
         .collect();
     let weighted: Vec<(f64, Verdict)> = models.iter().flatten().copied().collect();
     Some(FinalSigma {
@@ -129,6 +130,26 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
         calibration,
         models,
     })
+}
+
+/// Models whose designs are the same once bursts are held out (Eq. 7, and Eq. 7 with the
+/// outlier named) are one model: its weight the sum of theirs, under the one that names most
+/// (scanned most; of equals the later). The others are `None`.
+fn merged(designs: &[Vec<Vec<f64>>], met: &[Met], weights: &[f64]) -> Vec<Option<f64>> {
+    let same = |a: usize, b: usize| {
+        let holds = |x: &[Vec<f64>], y: &[Vec<f64>]| x.iter().all(|c| y.contains(c));
+        met[a].y == met[b].y
+            && designs[a].len() == designs[b].len()
+            && holds(&designs[a], &designs[b])
+            && holds(&designs[b], &designs[a])
+    };
+    (0..met.len())
+        .map(|k| {
+            let twins: Vec<usize> = (0..met.len()).filter(|&j| same(j, k)).collect();
+            let named = twins.iter().copied().max_by_key(|&j| (met[j].scanned, j)).unwrap_or(k);
+            (named == k).then(|| twins.iter().map(|&j| weights[j]).sum())
+        })
+        .collect()
 }
 
 /// A model's verdict over its noise models and its evidence: the full likelihood summed over
@@ -236,6 +257,22 @@ mod tests {
             mean < 0.15,
             "a step that is not there weighs {mean} on average: {without:?}"
         );
+    }
+
+    #[test]
+    fn models_the_same_once_bursts_are_held_out_are_one_under_the_name_that_names_most() {
+        let (a, b, c) = (vec![1.0, 2.0], vec![0.0, 1.0], vec![3.0, 1.0]);
+        let y = [0.5, 0.7];
+        let met = |scanned| Met {
+            cols: Vec::new(),
+            y: &y,
+            scanned,
+        };
+        // Eq. 7 with the burst held out, the outlier named (its columns in another order),
+        // and another model.
+        let designs = [vec![a.clone(), b.clone()], vec![b.clone(), a.clone()], vec![a, c]];
+        let kept = merged(&designs, &[met(0), met(1), met(0)], &[0.6, 0.1, 0.3]);
+        assert_eq!(kept, [None, Some(0.7), Some(0.3)]);
     }
 
     #[test]

@@ -82,12 +82,12 @@ impl Default for Options {
 pub struct Point {
     pub t_s: f64,
     pub gamma_deg: f64,
-    /// Residual of Eq. 7 on the raw rates, deg/h.
+    /// Residual of Eq. 7 on the raw rates by least squares, deg/h.
     pub before: f64,
-    /// Residual of the selected model, deg/h.
+    /// `before` less `fitted`, deg/h.
     pub after: f64,
-    /// The named effects' fitted contribution (tilt included) less its part in Eq. 7's
-    /// columns, as the residuals `before` hold it, deg/h.
+    /// The named effects' fitted contribution (tilt included) less its least-squares part in
+    /// Eq. 7's columns, as the residuals `before` hold it, deg/h.
     pub fitted: f64,
 }
 
@@ -217,7 +217,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_findings(&d, &sel.model, &noise, shocks.as_ref(), (tails, rate_resid), opt)?;
     findings.extend(sel.findings.iter().cloned());
     findings.extend(unexplained_finding(&d, &sel, &noise, opt.alpha * UNEXPLAINED_SHARE));
-    let points = residual_points(&d, &base, &sel, &tilt_fitted, w);
+    let points = residual_points(&d, &sel, &tilt_fitted);
     Ok(Diagnosis {
         alpha: opt.alpha,
         notes: tilt_warning
@@ -328,18 +328,17 @@ fn unexplained_finding(d: &Data, sel: &select::Selection, noise: &noise::Noise, 
 }
 
 /// The residuals of Eq. 7 and of the selected model per position, with the findings drawn
-/// over the former as those residuals hold them: with their share of C, A cos and B sin
-/// taken out (a jump's step about its mean), by the baseline's own fit (under the noise
-/// model `w`).
-fn residual_points(
-    d: &Data,
-    base: &crate::linfit::Ls,
-    sel: &select::Selection,
-    tilt_fitted: &[f64],
-    w: &Whitener,
-) -> Vec<Point> {
-    let before = base_residuals(d, base);
-    let after = sel.model.raw_residuals(&sel.fit);
+/// over the former as those residuals hold them. Drawn by least squares, as the simulation's
+/// panels are, so that each is centred and `before = after + fitted`: `before` Eq. 7's
+/// residuals on the raw rates, `fitted` the findings as the selection fitted them (tilt
+/// included) with their share of C, A cos and B sin taken out (a jump's step about its mean),
+/// `after` the rest.
+fn residual_points(d: &Data, sel: &select::Selection, tilt_fitted: &[f64]) -> Vec<Point> {
+    let plain = |y: Vec<f64>| {
+        let m = Model::new(d.base_cols(), y, &Whitener::identity());
+        m.fit().map_or_else(|| m.y.clone(), |f| m.raw_residuals(&f))
+    };
+    let before = plain(d.rate.clone());
     let effects: Vec<f64> = sel
         .model
         .effects_fitted(&sel.fit)
@@ -347,14 +346,13 @@ fn residual_points(
         .zip(tilt_fitted)
         .map(|(e, t)| e + t)
         .collect();
-    let eq7 = Model::new(d.base_cols(), effects.clone(), w);
-    let fitted = eq7.fit().map_or(effects, |f| eq7.raw_residuals(&f));
+    let fitted = plain(effects);
     (0..d.n())
         .map(|i| Point {
             t_s: d.t[i],
             gamma_deg: d.gamma[i],
             before: before[i],
-            after: after[i],
+            after: before[i] - fitted[i],
             fitted: fitted[i],
         })
         .collect()
@@ -426,11 +424,4 @@ fn measured_tails(d: &Data, design: Vec<Vec<f64>>, y: &[f64], w: &Whitener) -> (
     let held = model.fit_plus(&[w.apply(&d.indicator(i))]);
     let tails = tails::estimate_held_out(&held.map_or_else(|| f.resid.clone(), |h| h.resid), i);
     (tails, model.raw_residuals(&f))
-}
-
-fn base_residuals(d: &Data, ls: &crate::linfit::Ls) -> Vec<f64> {
-    let cols = d.base_cols();
-    (0..d.n())
-        .map(|i| d.rate[i] - (0..3).map(|k| cols[k][i] * ls.coef[k]).sum::<f64>())
-        .collect()
 }

@@ -108,7 +108,7 @@ impl<'a> Selector<'a> {
                         &mut variants,
                         false,
                         variant(
-                            &format!("{} instead of {}", alt.kind.name(), chosen.kind.name()),
+                            &rival_label(&chain_label(&findings, &widened), &chosen, alt.kind),
                             &m,
                             scanned + alt.scanned,
                             Some((chosen.kind, alt.kind)),
@@ -131,14 +131,7 @@ impl<'a> Selector<'a> {
             scanned += if columns { chosen.scanned } else { 0 };
             absorb(&mut findings, chosen, summary(&fit));
             if columns {
-                label = findings
-                    .iter()
-                    .map(|f| match widened.iter().find(|w| w.0 == f.effect) {
-                        Some((_, form)) => format!("{} ({form})", f.effect.name()),
-                        None => f.effect.name().to_string(),
-                    })
-                    .collect::<Vec<_>>()
-                    .join(" + ");
+                label = chain_label(&findings, &widened);
                 meet(&mut variants, true, variant(&label, &model, scanned, None));
             }
         }
@@ -294,6 +287,40 @@ fn meet(variants: &mut Vec<Variant>, chain: bool, v: Variant) {
     }
 }
 
+/// The findings so far joined, each in the wider form named in its place.
+fn chain_label(findings: &[Finding], widened: &[(Kind, &'static str)]) -> String {
+    let names: Vec<String> = findings
+        .iter()
+        .map(|f| match widened.iter().find(|w| w.0 == f.effect) {
+            Some((_, form)) => format!("{} ({form})", f.effect.name()),
+            None => f.effect.name().to_string(),
+        })
+        .collect();
+    match names.is_empty() {
+        true => "Eq. 7".into(),
+        false => names.join(" + "),
+    }
+}
+
+/// A rival's model is the chain so far with the rival's columns: where the step's choice adds
+/// none (the tilt's correction is in the data from the start) it keeps the choice too.
+fn rival_label(chain: &str, chosen: &Proposal, rival: Kind) -> String {
+    let kept: Vec<&str> = std::iter::once(chain)
+        .filter(|c| *c != "Eq. 7")
+        .chain(matches!(chosen.change, Change::Nothing).then_some(chosen.kind.name()))
+        .collect();
+    match (kept.is_empty(), &chosen.change) {
+        (true, _) => format!("{} instead of {}", rival.name(), chosen.kind.name()),
+        (false, Change::Nothing) => format!("{} + {}", kept.join(" + "), rival.name()),
+        (false, _) => format!(
+            "{} + {} instead of {}",
+            kept.join(" + "),
+            rival.name(),
+            chosen.kind.name()
+        ),
+    }
+}
+
 fn variant(label: &str, model: &Model, scanned: usize, rival: Option<(Kind, Kind)>) -> Variant {
     Variant {
         label: label.into(),
@@ -367,6 +394,35 @@ mod tests {
         assert_eq!((u.own_p, u.p_value, u.at_least, u.level), (1e-6, 0.3, false, 1e-3));
         // Its draws not made: its p-value only a bound.
         assert_eq!((held[1].effect, held[1].at_least), (Kind::ThermalDrift, true));
+    }
+
+    #[test]
+    fn a_rival_is_labelled_by_what_its_model_holds() {
+        let proposal = |kind, change| Proposal {
+            kind,
+            p: 1e-6,
+            change,
+            parameters: Vec::new(),
+            location: String::new(),
+            scanned: 0,
+            own_p: None,
+            draws: Draws::No,
+        };
+        let tilt = proposal(Kind::ShaftTilt, Change::Nothing);
+        let drift = proposal(Kind::BiasDrift, Change::Columns(Vec::new()));
+        // The tilt's correction is in the rates from the start: its rival keeps it.
+        assert_eq!(
+            rival_label("Eq. 7", &tilt, Kind::ThermalDrift),
+            "shaft_tilt + thermal_drift"
+        );
+        assert_eq!(
+            rival_label("shaft_tilt", &drift, Kind::ThermalDrift),
+            "shaft_tilt + thermal_drift instead of bias_drift"
+        );
+        assert_eq!(
+            rival_label("Eq. 7", &drift, Kind::BiasJump),
+            "bias_jump instead of bias_drift"
+        );
     }
 
     #[test]

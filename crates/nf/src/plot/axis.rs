@@ -145,11 +145,15 @@ pub(super) fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     out
 }
 
-/// Ticks of a log axis whose range is `[lo, hi]` in decades: 1, 2 and 5 per decade when it
-/// spans few decades, decades only otherwise, and every k-th decade past a dozen of them.
+/// Ticks of a log axis whose range is `[lo, hi]` in decades: 1, 2, 3 and 5 per decade
+/// within a decade, 1, 2 and 5 when it spans few decades, decades only otherwise, and every k-th decade past a dozen of them.
 pub(super) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let (lo, hi) = (lo.max(-400.0), hi.min(400.0));
-    let mults: &[f64] = if hi - lo <= 2.5 { &[1.0, 2.0, 5.0] } else { &[1.0] };
+    let mults: &[f64] = match hi - lo {
+        d if d <= 1.0 => &[1.0, 2.0, 3.0, 5.0],
+        d if d <= 2.5 => &[1.0, 2.0, 5.0],
+        _ => &[1.0],
+    };
     let every = ((hi - lo) / 10.0).ceil().max(1.0) as i32;
     let mut out = Vec::new();
     for d in (lo.floor() as i32)..=(hi.ceil() as i32) {
@@ -202,9 +206,11 @@ mod tests {
     }
 
     #[test]
-    fn a_log_axis_shorter_than_a_decade_has_linear_ticks() {
+    fn a_log_axis_shorter_than_a_decade_has_linear_ticks_where_its_own_are_too_few() {
         let x = Axis::fit([2.5, 19.99], true, 0.0);
-        assert_eq!(x.ticks(), vec![5.0, 10.0, 15.0]);
+        assert_eq!(x.ticks(), vec![3.0, 5.0, 10.0]);
+        let x = Axis::fit([2.5, 4.9], true, 0.0);
+        assert_eq!(x.ticks(), vec![2.5, 3.0, 3.5, 4.0, 4.5]);
         let y = Axis::fit([0.0013, 0.0041], true, 0.05);
         let labels: Vec<String> = y.ticks().iter().map(|&t| y.label(t)).collect();
         assert_eq!(labels, ["0.002", "0.003", "0.004"]);

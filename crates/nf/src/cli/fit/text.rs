@@ -169,8 +169,8 @@ fn white_fit(out: &mut impl Write, an: &Analysis) -> Result<()> {
     )?;
     writeln!(
         out,
-        "residuals      RSS {:.6e} (deg/h)^2, rms {:.5} deg/h",
-        f.rss, an.sigma_gyro_dph
+        "residuals      RSS {:.6e} (deg/h)^2, sd {:.5} deg/h (over {} dof)",
+        f.rss, an.sigma_gyro_dph, f.dof
     )
 }
 
