@@ -1,5 +1,5 @@
-//! `nf fit` on runs of three to five positions: where the noise comes from when the dwell
-//! means leave one or two contrasts or none.
+//! `nf fit` on runs of three to eight positions: where the noise comes from when the dwell
+//! means leave a few contrasts or none.
 
 mod common;
 use common::{nf, tmp};
@@ -161,4 +161,31 @@ fn four_bare_positions_read_their_sigma_off_students_t_and_are_never_said_unreso
         text_out.contains("widened 6.48 times: Student's t of 1 dof"),
         "{text_out}"
     );
+}
+
+#[test]
+fn eight_bare_positions_in_opposite_pairs_take_no_walk_for_their_noise() {
+    // White noise of 0.005 deg/h a dwell mean (an outside audit's writer). Over five contrasts
+    // a walk without white noise was the most likely model, and in opposite pairs it gave
+    // 27" where white least squares gives 127" and the error was 70".
+    let mut text = String::from(
+        "# format = northfinder-recording/1\n# latitude_deg = -69.64232738407402\n# dwell_s = 2\nindex,t_s,encoder_deg,rate_dph\n",
+    );
+    let rates = [
+        5.4101041, -4.7966624, 3.0901379, -2.4834177, -0.8626281, 1.4613279, -4.1389231, 4.7251761,
+    ];
+    for (k, rate) in rates.iter().enumerate() {
+        let (t, g) = (2.0 + 2.7 * k as f64, 45 * (k / 2) + 180 * (k % 2));
+        text += &format!("{k},{t},{g},{rate}\n");
+    }
+    let file = tmp("eight_bare_pairs.csv");
+    std::fs::write(&file, &text).unwrap();
+    let (code, out, err) = nf(&["fit", &file, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    // Student's t of five dof: 2.5706 / 1.96 times the least-squares sigma.
+    let ratio = j["sigma_arcsec"].as_f64().unwrap() / j["ols"]["sigma_arcsec"].as_f64().unwrap();
+    assert!((ratio - 1.3116).abs() < 1e-3, "{ratio}");
+    let source = j["noise_model"]["source"].as_str().unwrap();
+    assert!(source.contains("Student's t of 5 dof"), "{source}");
 }

@@ -290,7 +290,7 @@ pub fn fit(
     })
 }
 
-/// The fit of a run whose residuals alone, one or two of them, measure the noise.
+/// The fit of a run whose residuals alone, one to five of them, measure the noise.
 fn student(
     cols: &[Vec<f64>],
     y: &[f64],

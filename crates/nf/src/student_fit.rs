@@ -1,22 +1,25 @@
-//! A fit whose noise only its own one or two residual contrasts can measure (a run of four or
-//! five positions without quarter means or the samples' spread): white at their level, and
-//! the azimuth's error read off Student's t.
+//! A fit whose noise only its own few residual contrasts can measure (a run of four to eight
+//! positions without quarter means or the samples' spread): white at their level, and the
+//! azimuth's error read off Student's t.
 //!
 //! Under white Gaussian noise the error over its least-squares sigma follows Student's t with
 //! the residual degrees of freedom, exactly. With one or two that law has no finite
 //! variance: replicates' RMS of error/sigma is then itself a draw from a heavy tail (a
 //! four-position run's sigma was scaled 825 times by 40 of them and the Earth rate said
-//! unresolved, 2.5 % of such runs), and no colour can be told from so few contrasts. No
-//! sigma has a finite RMS of error/sigma here; the one given makes +-1.96 sigma the 95 %
-//! interval, as for a normal error (the tails are heavier beyond, the middle narrower).
+//! unresolved, 2.5 % of such runs). Nor can so few contrasts tell a colour: over five, a walk
+//! without white noise was at times the most likely model, and in opposite pairs its sigma a
+//! fifth of the white one's (an outside audit: 7 of 150 eight-position runs beyond 3 sigma).
+//! No sigma has a finite RMS of error/sigma at one or two; the one given makes +-1.96 sigma
+//! the 95 % interval, as for a normal error (the tails are heavier beyond, the middle
+//! narrower).
 
 use crate::linfit;
 use crate::noise_calib::Verdict;
 use crate::noise_fit::azimuth;
 use crate::stats::t_quantile;
 
-/// Residual degrees of freedom up to which [`fit`] is used.
-pub const MOST_DOF: usize = 2;
+/// Residual degrees of freedom up to which [`fit`] is used (eight positions for Eq. 7).
+pub const MOST_DOF: usize = 5;
 
 /// `Phi(1)`: the share of a normal within one sigma.
 const ONE_SIGMA: f64 = 0.841_344_746_068_543;
