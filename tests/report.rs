@@ -59,7 +59,7 @@ fn reports_are_whole_pages_that_render_and_show_the_result() {
     let cases = [
         (vec!["fit", run.as_str()], "azimuth psi"),
         (vec!["diagnose", run.as_str()], "final psi"),
-        (vec!["allan", log.as_str()], "N "),
+        (vec!["allan", log.as_str()], "N: "),
     ];
     let browser = chromium();
     if browser.is_none() {

@@ -126,13 +126,12 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
             .map_err(|e| Fail(format!("cannot write {path}: {e}"), 1))?;
     }
     if let Some(report) = &a.report {
-        let m = &fit.model;
-        let mut headline = format!(
-            "N {} deg/sqrt(h), B {} deg/h, K {} deg/h/sqrt(h)",
-            g(m.arw_deg_rth),
-            g(m.bias_instability_dph),
-            g(m.rrw_dph_rth)
-        );
+        // Each term as the text gives it: a bound or a term not significant is said so.
+        let mut headline = TERMS[..3]
+            .iter()
+            .map(|(term, label, unit)| format!("{}: {}", &label[..1], term_text(&fit, *term, unit)))
+            .collect::<Vec<_>>()
+            .join("; ");
         if let Some(r) = fit.ramp() {
             headline += &format!(", a ramp R {} deg/h/h", g(r.value));
         }
