@@ -291,3 +291,45 @@ fn settings_that_cannot_make_a_run_are_refused_before_anything_moves() {
     let (report, _) = go(&twin, &run);
     assert_eq!(report.result.unwrap_err().fault, Fault::BadConfig);
 }
+
+#[test]
+fn quantisation_runs_on_through_the_moves() {
+    // Quantisation alone: within a dwell the angle quantiser makes neighbouring quarters
+    // anti-correlated, but a move between two dwells turns the remainder at random, so
+    // consecutive dwell means are not (they were, by -0.41, when the count stopped between
+    // the samples read).
+    let mut twin = TwinConfig {
+        seed: 4,
+        ..TwinConfig::default()
+    };
+    twin.noise = nf_model::noise::NoiseModel {
+        quantization_arcsec: 0.005,
+        ..nf_model::noise::NoiseModel::WHITE_NONE
+    };
+    twin.settle_dph = 0.0;
+    let run = RunConfig {
+        positions: 360,
+        dwell_ms: 200,
+        settle_ms: 50,
+        ..Default::default()
+    };
+    let (report, rec) = go(&twin, &run);
+    assert_eq!(report.result, Ok(()));
+    let mut twin_quiet = twin.clone();
+    twin_quiet.noise.quantization_arcsec = 0.0;
+    let (_, quiet) = go(&twin_quiet, &run);
+    let rates = |r: &Recorder| -> Vec<f64> {
+        r.text()
+            .lines()
+            .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+            .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+            .collect()
+    };
+    let e: Vec<f64> = rates(&rec).iter().zip(rates(&quiet)).map(|(a, b)| a - b).collect();
+    let m = e.iter().sum::<f64>() / e.len() as f64;
+    let c = |k: usize| e.windows(k + 1).map(|w| (w[0] - m) * (w[k] - m)).sum::<f64>() / e.len() as f64;
+    let r = c(1) / c(0);
+    // 360 dwells: a correlation's standard error is about 0.053.
+    println!("lag-1 correlation of the dwell means {r:.3}");
+    assert!(r.abs() < 0.2, "lag-1 correlation of the dwell means {r}");
+}

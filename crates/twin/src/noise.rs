@@ -151,6 +151,16 @@ pub struct Quantiser {
 }
 
 impl Quantiser {
+    /// Counts on through `angle_arcsec` turned between the samples read (a move's): the
+    /// next sample's remainder is then the gap's, not the last dwell's.
+    pub fn run_on(&mut self, q_arcsec: f64, angle_arcsec: f64) {
+        if q_arcsec <= 0.0 {
+            return;
+        }
+        self.angle_arcsec += angle_arcsec;
+        self.last_steps = (self.angle_arcsec / (q_arcsec * 12f64.sqrt())).floor();
+    }
+
     pub fn output_dph(&mut self, q_arcsec: f64, rate_dph: f64, period_s: f64) -> f64 {
         if q_arcsec <= 0.0 {
             return rate_dph;

@@ -174,6 +174,8 @@ pub struct World {
     quantiser: Quantiser,
     /// Time of the next ADC conversion, us.
     next_sample_us: u64,
+    /// Time of the last sample read, us.
+    last_sample_us: Option<u64>,
     in_move: bool,
 }
 
@@ -194,6 +196,7 @@ impl World {
             shocks,
             quantiser: Quantiser::default(),
             next_sample_us: 0,
+            last_sample_us: None,
             in_move: false,
         }
     }
@@ -296,9 +299,15 @@ impl World {
     pub fn adc_sample(&mut self) -> i32 {
         let period = 1.0 / self.cfg.sample_rate_hz.max(1) as f64;
         let rate = self.rate_dph() + self.noise.white_dph(period);
-        let rate = self
-            .quantiser
-            .output_dph(self.cfg.noise.quantization_arcsec, rate, period);
+        let q = self.cfg.noise.quantization_arcsec;
+        // The gyro's angle counts on between the samples read (through a move).
+        let since = self.last_sample_us.map(|t| (self.now_us - t) as f64 * 1e-6);
+        self.last_sample_us = Some(self.now_us);
+        if let Some(gap) = since.map(|s| s - period).filter(|g| q > 0.0 && *g > 0.5 * period) {
+            let white = self.noise.white_dph(gap);
+            self.quantiser.run_on(q, (rate + white) * gap);
+        }
+        let rate = self.quantiser.output_dph(q, rate, period);
         let counts = self.cfg.calibration.counts(rate).round();
         counts.clamp(CODE_MIN as f64, CODE_MAX as f64) as i32
     }

@@ -56,7 +56,7 @@ pub struct SimArgs {
     /// Gyro bias, deg/h.
     #[arg(long, conflicts_with = "config", default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(-50.0, 50.0))]
     bias: f64,
-    /// Linear bias drift, deg/h per s.
+    /// Linear bias drift, deg/h per s, from power-on (the levelling, a few seconds, comes before the recording's t_s = 0).
     #[arg(long, conflicts_with = "config", default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
     drift: f64,
     /// Shaft tilt, deg.
@@ -77,10 +77,10 @@ pub struct SimArgs {
     /// Harmonic of the encoder error (1: eccentricity).
     #[arg(long, conflicts_with = "config", default_value_t = 2, allow_hyphen_values = true, value_parser = clap::value_parser!(u8).range(1..=16))]
     encoder_harmonic: u8,
-    /// Gyro temperature at the start, C.
+    /// Gyro temperature at power-on, C (the levelling comes before the recording's t_s = 0).
     #[arg(long, conflicts_with = "config", default_value_t = 40.0, allow_hyphen_values = true, value_parser = real(-60.0, 125.0))]
     temp: f64,
-    /// Temperature ramp, C per s.
+    /// Temperature ramp, C per s, from power-on.
     #[arg(long, conflicts_with = "config", default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-1.0, 1.0))]
     temp_ramp: f64,
     /// Bias temperature coefficient, deg/h per C.
