@@ -59,9 +59,10 @@ fn size(panels: &[Panel]) -> (u32, u32) {
 
 fn draw_all<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, panels: &[Panel]) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let y_area = panels.iter().map(|p| draw::y_area(&root, p)).max().unwrap_or(0);
     if !panels.is_empty() {
         for (area, p) in root.split_evenly((panels.len(), 1)).iter().zip(panels) {
-            draw::panel(area, p)?;
+            draw::panel(area, p, y_area)?;
         }
     }
     root.present().map_err(|e| e.to_string())

@@ -1,6 +1,8 @@
 //! Why the twin's gyro ADC saturated: what one sample carries against the converter's full
 //! scale, and the noise terms that fit within it at this sample rate.
 
+use crate::stats::t_quantile;
+use nf_instrument::run::RunConfig;
 use nf_model::EARTH_RATE_DPH;
 use nf_twin::TwinConfig;
 
@@ -20,13 +22,19 @@ pub struct AdcBudget {
     pub steady_dph: f64,
     /// Standard deviation of a shock's rate offset (0: none).
     pub shock_sd_dph: f64,
+    /// The samples the run's dwells read.
+    pub samples: f64,
 }
 
-/// Sample noise up to this many standard deviations is taken to fit.
+/// Gaussian sample noise up to this many standard deviations is taken to fit.
 const NOISE_SDS: f64 = 6.0;
 
+/// A Student-t's samples fit where the run expects fewer than this many beyond the full
+/// scale (about its chance of ending saturated).
+const TAIL_RISK: f64 = 0.1;
+
 impl AdcBudget {
-    pub fn of(twin: &TwinConfig) -> Self {
+    pub fn of(twin: &TwinConfig, run: &RunConfig) -> Self {
         let rate_hz = f64::from(twin.sample_rate_hz.max(1));
         let full = 2f64.powi(23);
         let cal = &twin.calibration;
@@ -45,7 +53,20 @@ impl AdcBudget {
             } else {
                 0.0
             },
+            samples: f64::from(run.order.visits(run.positions)) * f64::from(run.dwell_ms) * 1e-3 * rate_hz,
         }
+    }
+
+    /// How many of its standard deviations a sample's white noise may reach: [`NOISE_SDS`]
+    /// when Gaussian; a Student-t's level that the run's samples pass [`TAIL_RISK`] times.
+    fn noise_sds(&self) -> f64 {
+        let nu = self.student_t_dof;
+        if nu <= 0.0 {
+            return NOISE_SDS;
+        }
+        // The twin scales a t sample by sqrt((nu - 2) / nu) to the white noise's sd.
+        let p = (TAIL_RISK / self.samples.max(1.0)).min(0.5);
+        -t_quantile(p / 2.0, nu) * ((nu - 2.0) / nu).sqrt()
     }
 
     /// Whether every sample must saturate the ADC, whatever the noise draws: the steady rate
@@ -55,14 +76,15 @@ impl AdcBudget {
         room <= 0.0 || self.quant_step_dph > room
     }
 
-    /// Whether the white noise alone reaches the full scale within [`NOISE_SDS`] of its sd: a
-    /// run of some 10^5 samples would then saturate almost surely (at 4 sd, one sample in
-    /// 16 000), so it is refused before it starts, at the largest noise that [`explain`] says
-    /// fits. Shocks and a Student-t's tails strike at random and are left to the run.
+    /// Whether the white noise alone reaches the full scale within [`NOISE_SDS`] of its sd (a
+    /// run of some 10^5 samples would then saturate almost surely: at 4 sd, one sample in
+    /// 16 000), or a Student-t's tails would in one run in ten: it is refused before it
+    /// starts, at the largest noise that [`explain`] says fits. Shocks strike at random and
+    /// are left to the run.
     ///
     /// [`explain`]: AdcBudget::explain
     pub fn noise_overflows(&self) -> bool {
-        NOISE_SDS * self.white_sd_dph > self.room_dph()
+        self.noise_sds() * self.white_sd_dph > self.room_dph()
     }
 
     /// What the steady rate leaves of the full scale for the noise, deg/h.
@@ -104,10 +126,21 @@ impl AdcBudget {
             let q = room / self.sample_rate_hz / 12f64.sqrt();
             fits.push(format!("a quantisation Q of at most {} arcsec", at_most(q)));
         }
-        if NOISE_SDS * self.white_sd_dph > room || self.student_t_dof > 0.0 {
+        if self.noise_sds() * self.white_sd_dph > room || self.student_t_dof > 0.0 {
             // sd = 60 N sqrt(rate), N in deg/sqrt(h).
-            let n = room / NOISE_SDS / 60.0 / self.sample_rate_hz.sqrt();
-            fits.push(format!("Gaussian white noise of at most {} deg/sqrt(h)", at_most(n)));
+            let n = |sds: f64| room / sds / 60.0 / self.sample_rate_hz.sqrt();
+            if self.student_t_dof > 0.0 {
+                fits.push(format!(
+                    "Student-t ({} dof) white noise of at most {} deg/sqrt(h) over this run's {:.0} samples",
+                    self.student_t_dof,
+                    at_most(n(self.noise_sds())),
+                    self.samples
+                ));
+            }
+            fits.push(format!(
+                "Gaussian white noise of at most {} deg/sqrt(h)",
+                at_most(n(NOISE_SDS))
+            ));
         }
         if NOISE_SDS * self.shock_sd_dph > room {
             let shock = room / NOISE_SDS;
@@ -139,7 +172,7 @@ mod tests {
     fn a_coarse_quantisation_is_named_with_the_largest_q_that_fits() {
         let mut twin = TwinConfig::default();
         twin.noise.quantization_arcsec = 0.5;
-        let b = AdcBudget::of(&twin);
+        let b = AdcBudget::of(&twin, &RunConfig::default());
         // 0.5 arcsec sqrt(12) read every millisecond: 1732 deg/h per step.
         assert!((b.quant_step_dph - 1732.05).abs() < 0.01, "{b:?}");
         assert!((b.full_scale_dph - 50.0).abs() < 1e-6, "{b:?}");
@@ -161,7 +194,7 @@ mod tests {
             arw_deg_rth: 0.01,
             ..twin.noise
         };
-        let b = AdcBudget::of(&twin);
+        let b = AdcBudget::of(&twin, &RunConfig::default());
         assert!((b.white_sd_dph - 0.6 * 1000f64.sqrt()).abs() < 1e-9, "{b:?}");
         let text = b.explain();
         assert!(text.contains("Gaussian white noise of at most"), "{text}");
@@ -175,7 +208,35 @@ mod tests {
             .and_then(|v| v.parse().ok())
             .unwrap();
         twin.noise.arw_deg_rth = n;
-        assert!(!AdcBudget::of(&twin).noise_overflows(), "{n}");
+        assert!(!AdcBudget::of(&twin, &RunConfig::default()).noise_overflows(), "{n}");
+    }
+
+    #[test]
+    fn heavy_tails_are_refused_where_they_would_saturate_one_run_in_ten() {
+        // The default white noise (0.224 deg/h a sample at 1 kHz) as a Student-t of 3 dof: a
+        // sample beyond the 34.7 deg/h left is 1e-7 likely (155 sd), 0.016 times in 72 dwells
+        // of 2 s, 0.16 times in 720 (an outside audit's runs aborted in one of five).
+        let mut twin = TwinConfig::default();
+        twin.noise.student_t_dof = 3.0;
+        let run = |positions| RunConfig {
+            positions,
+            dwell_ms: 2000,
+            ..RunConfig::default()
+        };
+        assert!(!AdcBudget::of(&twin, &run(72)).noise_overflows());
+        let long = AdcBudget::of(&twin, &run(720));
+        assert!(long.noise_overflows() && !long.always_saturates());
+        let text = long.explain();
+        let n: f64 = text
+            .split("Student-t (3 dof) white noise of at most ")
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{text}"));
+        twin.noise.arw_deg_rth = n;
+        assert!(!AdcBudget::of(&twin, &run(720)).noise_overflows(), "{n}");
+        // Gaussian noise at that level fits with room to spare.
+        assert!(text.contains("Gaussian white noise of at most"), "{text}");
     }
 
     #[test]
@@ -188,7 +249,7 @@ mod tests {
             },
             ..TwinConfig::default()
         };
-        let text = AdcBudget::of(&twin).explain();
+        let text = AdcBudget::of(&twin, &RunConfig::default()).explain();
         assert!(
             text.contains("shocks of sd at most") && !text.contains("white noise of at most"),
             "{text}"
@@ -197,7 +258,7 @@ mod tests {
 
     #[test]
     fn a_quiet_gyro_leaves_the_blame_on_the_input() {
-        let b = AdcBudget::of(&TwinConfig::default());
+        let b = AdcBudget::of(&TwinConfig::default(), &RunConfig::default());
         assert!(!b.always_saturates() && !b.noise_overflows());
         let text = b.explain();
         assert!(

@@ -207,6 +207,7 @@ fn fit_panels(an: &Analysis) -> Vec<Panel> {
     };
     let model = match cfg.harmonics {
         1 => "A cos + B sin + C".to_string(),
+        2 => "A cos + B sin + C + harmonic 2".to_string(),
         h => format!("A cos + B sin + C + harmonics 2..{h}"),
     };
     let mut panels = vec![Panel {

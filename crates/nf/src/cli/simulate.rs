@@ -220,7 +220,8 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
         file.seed = seed;
     }
     let twin = file.twin();
-    let budget = AdcBudget::of(&twin);
+    let run = file.run_config();
+    let budget = AdcBudget::of(&twin, &run);
     if budget.always_saturates() || budget.noise_overflows() {
         return Err(Fail(
             format!("this gyro cannot be read by the ADC: {}", budget.explain()),
@@ -231,7 +232,6 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
     if let Some(p) = &a.save_config {
         write_out(&Some(p.clone()), &file.write(&[]))?;
     }
-    let run = file.run_config();
     if let Some(u) = run.order.uneven(run.positions) {
         let mut msg = String::new();
         let _ = u.write_message(&mut msg, run.positions);
@@ -292,7 +292,7 @@ pub fn cmd_simulate(a: SimArgs) -> Result<(), Fail> {
         Ok(()) => Ok(()),
         Err(e) => {
             let why = match e.fault {
-                Fault::AdcSaturated { .. } => format!(" ({})", AdcBudget::of(&twin).explain()),
+                Fault::AdcSaturated { .. } => format!(" ({})", AdcBudget::of(&twin, &run).explain()),
                 _ => String::new(),
             };
             Err(Fail(

@@ -104,18 +104,29 @@ fn title<DB: DrawingBackend>(area: &Area<DB>, text: &str) -> Result<Area<DB>, Fa
     Ok(area.split_vertically(10 + lines.len() as i32 * line_h).1)
 }
 
-/// One panel into `area`.
-pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> Result<(), Failed> {
+/// The panel's axes: x over every point, y over those x can show.
+fn axes(p: &Panel) -> (Axis, Axis) {
     let all = || p.series.iter().flat_map(|s| s.points.iter());
     let x = Axis::fit(all().map(|q| q.0), p.log_x, 0.0);
     let y_pts = all().filter(|q| x.shows(q.0)).map(|q| q.1);
     let y = Axis::fit(y_pts, p.log_y, 0.05);
+    (x, y)
+}
 
+/// The width the panel's y tick labels and axis label take, pixels.
+pub(super) fn y_area<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> u32 {
+    let y = axes(p).1;
+    let tick_w = y.ticks().iter().map(|&t| width(area, &y.label(t), TICK_SIZE)).max();
+    tick_w.unwrap_or(0) + 36
+}
+
+/// One panel into `area`, its y labels in `y_area` pixels (the figure's widest, so that
+/// stacked panels share their x positions).
+pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32) -> Result<(), Failed> {
+    let (x, y) = axes(p);
     let rest = title(area, &clean(&p.title))?;
     let (x_label, y_label) = (clean(&p.x_label), clean(&p.y_label));
     let (w, h) = rest.dim_in_pixel();
-    let tick_w = y.ticks().iter().map(|&t| width(&rest, &y.label(t), TICK_SIZE)).max();
-    let y_area = tick_w.unwrap_or(0) + 36;
     let x_size = fit_size(&x_label, w.saturating_sub(y_area + 20), 15.0, 9.0, |s, z| {
         width(&rest, s, z)
     });

@@ -212,3 +212,22 @@ fn write_chooses_the_format_by_the_ending() {
     assert_eq!(std::fs::read(&png).unwrap()[..4], *b"\x89PNG");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn stacked_panels_share_their_plotting_areas_left_edge() {
+    // Short tick labels above, long ones below: the plots start at the same x.
+    let mut long = panel();
+    long.series[0].points = vec![(0.0, 0.00123), (1.0, 0.00456)];
+    long.series[1].points = vec![(0.5, 0.0031)];
+    let svg = render_svg(&[panel(), long]);
+    // A horizontal grid line starts at its plot's left edge.
+    let lefts: std::collections::BTreeSet<&str> = svg
+        .lines()
+        .filter(|l| l.starts_with("<line") && l.contains(r##"stroke="#DDDDDD""##))
+        .filter_map(|l| {
+            let attr = |k: &str| l.split(&format!(" {k}=\"")).nth(1)?.split('"').next();
+            (attr("y1")? == attr("y2")?).then(|| attr("x1")).flatten()
+        })
+        .collect();
+    assert_eq!(lefts.len(), 1, "{lefts:?}");
+}
