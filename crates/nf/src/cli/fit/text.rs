@@ -194,7 +194,7 @@ fn tilt(out: &mut impl Write, rows: usize, an: &Analysis) -> Result<()> {
         }
         _ => writeln!(
             out,
-            "tilt           not corrected (no inclinometer columns, or --tilt none): a shaft tilt eta moves psi by up to eta tan(lat), {:.2}\" at --sigma-tilt (the exact model's tilt term below), which the sigma above leaves out",
+            "tilt           not corrected (no inclinometer columns, or --tilt none): a shaft tilt eta moves psi by up to eta tan(lat), the exact model's tilt term below ({:.2}\"), which the sigma above leaves out",
             an.budget_exact.tilt_arcsec
         )?,
     }
