@@ -240,3 +240,24 @@ fn four_positions_take_the_white_level_from_the_samples_spread() {
     assert!((0.7..1.3).contains(&z), "{z}");
     assert!(without > 1.6, "{without}");
 }
+
+#[test]
+fn a_strong_walk_over_a_short_sweep_is_not_taken_for_white_noise() {
+    // 36 positions of 2 s, a walk of K 1 deg/h/sqrt(h) (0.15 deg/h over the run) on 0.005
+    // deg/h of white noise a dwell mean (written apart from the twin, `bench/weak_walk.py`'s
+    // writer, seed 7018). Flicker alone and the walk alone each explained it about as well as
+    // both, so both were dropped at once and white noise kept: chi-square 82 on 33 dof (its
+    // sigma 361", the error 2042"; 474" under the walk kept now).
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/walk_36_sweep.csv")).unwrap();
+    let rec = Recording::parse(&text).unwrap();
+    let an = analyse(&rec, &Options::default()).unwrap();
+    let m = an.gls.model;
+    assert!(m.is_coloured(), "{m:?}");
+    assert!(
+        an.gls.chi2 < 2.0 * an.gls.dof as f64,
+        "{} on {}",
+        an.gls.chi2,
+        an.gls.dof
+    );
+}

@@ -564,7 +564,7 @@ pub(crate) struct Judged {
 
 fn judge(e: &Estimate) -> Option<Judged> {
     // The azimuth of the supported model: on white noise, least squares (the Cramer-Rao bound).
-    let (supported, _) = e.supported();
+    let (supported, _) = e.supported_stepwise();
     let chosen = azimuth(&supported.coef, &supported.cov);
     let top = e.best.loglik;
     let per: Vec<(f64, Verdict)> = e
