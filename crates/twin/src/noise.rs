@@ -158,7 +158,7 @@ impl Quantiser {
             return;
         }
         self.angle_arcsec += angle_arcsec;
-        self.last_steps = (self.angle_arcsec / (q_arcsec * 12f64.sqrt())).floor();
+        self.last_steps = (self.angle_arcsec / step(q_arcsec)).floor();
     }
 
     pub fn output_dph(&mut self, q_arcsec: f64, rate_dph: f64, period_s: f64) -> f64 {
@@ -167,12 +167,17 @@ impl Quantiser {
         }
         // deg/h times s is arcsec.
         self.angle_arcsec += rate_dph * period_s;
-        let step = q_arcsec * 12f64.sqrt();
+        let step = step(q_arcsec);
         let steps = (self.angle_arcsec / step).floor();
         let out = (steps - self.last_steps) * step / period_s;
         self.last_steps = steps;
         out
     }
+}
+
+/// The angle the quantiser reads in, arcsec: `Q sqrt(12)`.
+fn step(q_arcsec: f64) -> f64 {
+    q_arcsec * 12f64.sqrt()
 }
 
 #[cfg(test)]

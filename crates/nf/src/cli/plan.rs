@@ -286,7 +286,7 @@ impl Planned {
             }))
             .chain(a.target.map(|t| Series {
                 name: format!("target {t} arcsec"),
-                points: vec![(10.0, t), (360.0, t)],
+                points: curve(&|_| t),
                 style: Style::Line,
             }))
             .collect(),
