@@ -4,6 +4,7 @@
 
 mod axis;
 mod draw;
+mod legend;
 
 use image::ImageEncoder;
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};

@@ -42,6 +42,19 @@ impl Axis {
         Axis { log, lo, hi }
     }
 
+    /// The axis with its top raised so that the values it showed take the lower `1 - share`
+    /// of it (on a log axis, in decades).
+    pub fn with_room_above(&self, share: f64) -> Axis {
+        let share = share.clamp(0.0, 0.9);
+        let width = self.hi / 2.0 - self.lo / 2.0;
+        let hi = self.lo + (2.0 * width / (1.0 - share)).min(f64::MAX);
+        let hi = if self.log { hi.min(400.0) } else { hi.min(f64::MAX) };
+        Axis {
+            hi: if hi.is_finite() && hi > self.hi { hi } else { self.hi },
+            ..self.clone()
+        }
+    }
+
     /// Whether `v` has a place on this axis (finite; positive on a log axis).
     pub fn shows(&self, v: f64) -> bool {
         self.at(v).is_finite()

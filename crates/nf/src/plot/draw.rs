@@ -2,6 +2,7 @@
 //! wrapped), axes from [`Axis`], the series, and a legend.
 
 use super::axis::Axis;
+use super::legend::{self, LegendBox};
 use super::{Panel, Series, Style};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -113,10 +114,14 @@ fn axes(p: &Panel) -> (Axis, Axis) {
     (x, y)
 }
 
-/// The width the panel's y tick labels and axis label take, pixels.
+/// The width the panel's y tick labels and axis label take, pixels: with or without the
+/// room a legend may need above the data.
 pub(super) fn y_area<DB: DrawingBackend>(area: &Area<DB>, p: &Panel) -> u32 {
     let y = axes(p).1;
-    let tick_w = y.ticks().iter().map(|&t| width(area, &y.label(t), TICK_SIZE)).max();
+    let tick_w = [y.with_room_above(legend::MOST_ROOM), y]
+        .iter()
+        .flat_map(|y| y.ticks().into_iter().map(|t| width(area, &y.label(t), TICK_SIZE)))
+        .max();
     tick_w.unwrap_or(0) + 36
 }
 
@@ -131,6 +136,17 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
         width(&rest, s, z)
     });
     let y_size = fit_size(&y_label, h.saturating_sub(50), 15.0, 9.0, |s, z| width(&rest, s, z));
+    // The plot's size within the margins and label areas below.
+    let (pw, ph) = (w.saturating_sub(26 + y_area), h.saturating_sub(54));
+    let names: Vec<String> = p.series.iter().map(|s| clean(&s.name)).collect();
+    let legend = legend_style(&rest, &names, pw);
+    let (y, corner) = match legend {
+        Some((_, b)) => {
+            let at = legend::place(p, (&x, &y), (f64::from(pw), f64::from(ph)), b);
+            (at.y, Some(at.corner))
+        }
+        None => (y, None),
+    };
 
     let mut chart = ChartBuilder::on(&rest)
         .margin_right(20)
@@ -153,25 +169,17 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
         .map_err(failed)?;
     // The frame: plotters draws the left and bottom axes only.
     let plot = chart.plotting_area().strip_coord_spec();
-    let (pw, ph) = plot.dim_in_pixel();
+    debug_assert_eq!(plot.dim_in_pixel(), (pw, ph), "the plot's size as laid out");
     let frame = Rectangle::new([(0, 0), (pw as i32 - 1, ph as i32 - 1)], FRAME);
     plot.draw(&frame).map_err(failed)?;
 
-    let names: Vec<String> = p.series.iter().map(|s| clean(&s.name)).collect();
     for (k, (s, name)) in p.series.iter().zip(&names).enumerate() {
         draw_series(&mut chart, s, name, COLORS[k % COLORS.len()], (&x, &y))?;
     }
-    // The legend's names within the plot: smaller where one is too long for it.
-    let widest = names.iter().max_by_key(|n| width(&rest, n, TICK_SIZE));
-    if let Some(widest) = widest.filter(|n| !n.is_empty()) {
-        let room = pw.saturating_sub(60);
-        let size = fit_size(widest, room, TICK_SIZE, 9.0, |s, z| width(&rest, s, z));
-        // plotters' legend: a 20 px marker and gaps beside the names, a row per entry.
-        let box_w = f64::from(width(&rest, widest, size) + 40) / f64::from(pw.max(1));
-        let box_h = (names.len() as f64 * (size * 1.25) + 12.0) / f64::from(ph.max(1));
+    if let (Some((size, _)), Some(corner)) = (legend, corner) {
         chart
             .configure_series_labels()
-            .position(legend_corner(p, &x, &y, box_w, box_h))
+            .position(corner.position())
             .background_style(WHITE.mix(0.85))
             .border_style(GRID)
             .label_font((FONT, size))
@@ -181,40 +189,19 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
     Ok(())
 }
 
-/// The corner of the plot where the legend, a box of `box_w` by `box_h` (fractions of the
-/// plot), covers least: each measured point or bar weighs as much as a whole line (a line's
-/// points are dense, and covering data hides more than covering a model). Upper left where
-/// there is a tie.
-fn legend_corner(p: &Panel, x: &Axis, y: &Axis, box_w: f64, box_h: f64) -> SeriesLabelPosition {
-    use SeriesLabelPosition::*;
-    let (bw, bh) = ((100.0 * box_w).ceil() as i32, (100.0 * box_h).ceil() as i32);
-    let mut cover = [0.0f64; 4];
-    for s in &p.series {
-        let shown: Vec<(f64, f64)> = s
-            .points
-            .iter()
-            .copied()
-            .filter(|q| x.shows(q.0) && y.shows(q.1))
-            .collect();
-        let weight = match s.style {
-            Style::Line => 1.0 / shown.len().max(1) as f64,
-            Style::Points | Style::Bars => 1.0,
-        };
-        for (a, b) in shown {
-            let (fx, fy) = (x.map(&a, (0, 100)), y.map(&b, (0, 100)));
-            let (left, right, top, bottom) = (fx <= bw, fx >= 100 - bw, fy >= 100 - bh, fy <= bh);
-            for (k, inside) in [left && top, right && top, left && bottom, right && bottom]
-                .into_iter()
-                .enumerate()
-            {
-                if inside {
-                    cover[k] += weight;
-                }
-            }
-        }
-    }
-    let best = (0..4).min_by(|&a, &b| cover[a].total_cmp(&cover[b])).unwrap_or(0);
-    [UpperLeft, UpperRight, LowerLeft, LowerRight][best].clone()
+/// The legend's text size and box for `names` in a plot `pw` wide: smaller where a name is
+/// too long for it; `None` when no series is named.
+fn legend_style<DB: DrawingBackend>(area: &Area<DB>, names: &[String], pw: u32) -> Option<(f64, LegendBox)> {
+    let named: Vec<&String> = names.iter().filter(|n| !n.is_empty()).collect();
+    let widest = named.iter().max_by_key(|n| width(area, n, TICK_SIZE))?;
+    let size = fit_size(widest, pw.saturating_sub(60), TICK_SIZE, 9.0, |s, z| width(area, s, z));
+    // plotters' legend: a 30 px marker area and 10 px margins around the names, a row per
+    // name 1.25 of the text's height.
+    let b = LegendBox {
+        w: f64::from(width(area, widest, size)) + 50.0,
+        h: named.len() as f64 * size * 1.25 + 20.0,
+    };
+    Some((size, b))
 }
 
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
