@@ -41,7 +41,7 @@ pub fn average(variants: &[Variant]) -> Option<(Summary, Vec<Weighted>)> {
         .iter()
         .filter_map(|v| {
             let ls = v.model.fit()?;
-            Some((bic(&ls, v.scanned), summary(&ls), v))
+            Some((bic(&ls, v.scanned), summary(&v.model, &ls), v))
         })
         .collect();
     let low = fits.iter().map(|f| f.0).fold(f64::MAX, f64::min);

@@ -67,7 +67,7 @@ impl Final {
         let mut final_ = noise_averaged(
             averaged,
             &sel.model,
-            summary(&sel.fit),
+            summary(&sel.model, &sel.fit),
             noise,
             own.as_ref(),
             shocks.map(|s| &s.through.verdict),
@@ -167,7 +167,8 @@ fn noise_averaged(
         .iter()
         .filter_map(|(w, m)| {
             let wh = noise.whitening.of(m).ok()?;
-            Some((*w, summary(&selected.rewhiten(&wh).fit()?)))
+            let m = selected.rewhiten(&wh);
+            Some((*w, summary(&m, &m.fit()?)))
         })
         .collect();
     let total: f64 = fits.iter().map(|f| f.0).sum();

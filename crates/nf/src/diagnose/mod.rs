@@ -180,7 +180,8 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
     let noise = noise::analyse(&d, &y, &opt.noise, opt.alpha)?;
     let noise_s = noise_started.elapsed().as_secs_f64();
     let w = &noise.whitener;
-    let base = Model::new(d.base_cols(), d.rate.clone(), w)
+    let base_model = Model::new(d.base_cols(), d.rate.clone(), w);
+    let base = base_model
         .fit()
         .ok_or("the positions do not determine A cos + B sin + C")?;
     let start = Model::new(d.base_cols(), y, w);
@@ -246,7 +247,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         },
         noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: {
-            let plain = summary(&base);
+            let plain = summary(&base_model, &base);
             Summary {
                 sigma_arcsec: result.baseline_sigma_arcsec.unwrap_or(plain.sigma_arcsec),
                 ..plain
@@ -254,7 +255,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         },
         findings,
         undecided: sel.undecided,
-        selected: summary(&sel.fit),
+        selected: summary(&sel.model, &sel.fit),
         final_: result.summary,
         unresolved: result.unresolved,
         timing: Timing {
@@ -284,10 +285,9 @@ fn measure_tilt(d: &Data, white: &Whitener) -> Result<Option<ShaftTilt>, String>
         // The exact correction scales with the fitted amplitude: a wild dwell mean must not
         // set it, so the bursts get columns of their own here as in the noise estimate.
         let cols = noise::with_bursts_held_out(d, &d.base_cols(), &y);
-        let f = Model::new(cols, y, white)
-            .fit()
-            .ok_or("the positions do not determine A cos + B sin + C")?;
-        Ok((summary(&f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
+        let m = Model::new(cols, y, white);
+        let f = m.fit().ok_or("the positions do not determine A cos + B sin + C")?;
+        Ok((summary(&m, &f).azimuth_deg, f.coef[1].hypot(f.coef[2])))
     })
 }
 
@@ -323,7 +323,7 @@ fn unexplained_finding(d: &Data, sel: &select::Selection, noise: &noise::Noise, 
         parameters: s.parameters,
         p_value: s.p,
         location: s.location,
-        after: summary(&sel.fit),
+        after: summary(&sel.model, &sel.fit),
     })
 }
 

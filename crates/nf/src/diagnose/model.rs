@@ -25,7 +25,7 @@ pub struct Model {
 #[derive(Debug, Clone, Copy)]
 pub struct Summary {
     pub azimuth_deg: f64,
-    /// Whitened residual sum of squares.
+    /// Residual sum of squares of the rates, (deg/h)^2.
     pub rss: f64,
     pub sigma_arcsec: f64,
 }
@@ -122,16 +122,59 @@ impl Model {
     }
 }
 
-/// The azimuth of a fit whose columns begin with `1, cos, sin`, its whitened RSS, and its
-/// sigma with the noise level rescaled by the residuals.
-pub fn summary(ls: &Ls) -> Summary {
+/// The azimuth of `ls`, a fit of `m` whose columns begin with `1, cos, sin`, the RSS of its
+/// residuals in rate units, and its sigma with the noise level rescaled by the residuals.
+pub fn summary(m: &Model, ls: &Ls) -> Summary {
     let (a, b) = (ls.coef[1], ls.coef[2]);
     let r2 = a * a + b * b;
     let v =
         ls.s2() * (b * b * ls.cov_unit[1][1] + a * a * ls.cov_unit[2][2] - 2.0 * a * b * ls.cov_unit[1][2]) / (r2 * r2);
     Summary {
         azimuth_deg: atan2_deg(-b, a),
-        rss: ls.rss,
+        rss: m.raw_residuals(ls).iter().map(|r| r * r).sum(),
         sigma_arcsec: v.max(0.0).sqrt().to_degrees() * 3600.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gls::Cov;
+    use nf_model::noise::NoiseModel;
+    use nf_model::rng::Rng;
+
+    /// The summary's RSS is of the rates, (deg/h)^2, whatever the whitening: under a walk it
+    /// is the GLS coefficients' residuals, not the whitened ones (about the dof, unitless).
+    #[test]
+    fn the_rss_is_of_the_rates_under_any_noise() {
+        let mut rng = Rng::new(3);
+        let n = 48;
+        let t: Vec<f64> = (0..n).map(|i| 2.5 * i as f64).collect();
+        let gamma: Vec<f64> = (0..n).map(|i| (i as f64 * 7.5).to_radians()).collect();
+        let base = vec![
+            vec![1.0; n],
+            gamma.iter().map(|g| g.cos()).collect(),
+            gamma.iter().map(|g| g.sin()).collect(),
+        ];
+        let y: Vec<f64> = (0..n).map(|i| 0.4 + 10.0 * base[1][i] + 0.02 * rng.gauss()).collect();
+        let walk = NoiseModel {
+            rrw_dph_rth: 0.5,
+            ..NoiseModel::white(0.02, 2.0)
+        };
+        for w in [
+            Whitener::identity(),
+            Whitener::of(Cov::of_windows(&walk, &t, &vec![2.0; n]).unwrap()),
+        ] {
+            let m = Model::new(base.clone(), y.clone(), &w);
+            let f = m.fit().unwrap();
+            let rss: f64 = (0..n)
+                .map(|i| y[i] - (0..3).map(|k| base[k][i] * f.coef[k]).sum::<f64>())
+                .map(|r| r * r)
+                .sum();
+            let s = summary(&m, &f);
+            assert!((s.rss / rss - 1.0).abs() < 1e-12, "{} {rss}", s.rss);
+            // 48 residuals of 0.02 deg/h: about 0.02 (deg/h)^2.
+            assert!((0.005..0.08).contains(&s.rss), "{}", s.rss);
+        }
     }
 }

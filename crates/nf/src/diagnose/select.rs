@@ -129,7 +129,7 @@ impl<'a> Selector<'a> {
             fit = model.fit().ok_or("the extended model does not fit")?;
             let columns = matches!(chosen.change, Change::Columns(_));
             scanned += if columns { chosen.scanned } else { 0 };
-            absorb(&mut findings, chosen, summary(&fit));
+            absorb(&mut findings, chosen, summary(&model, &fit));
             if columns {
                 label = chain_label(&findings, &widened);
                 meet(&mut variants, true, variant(&label, &model, scanned, None));
@@ -199,7 +199,7 @@ impl<'a> Selector<'a> {
             cautious: &cautious,
             drift: &drift,
             wander: &null,
-            summary: summary(fit),
+            summary: summary(model, fit),
             named,
             tails: self.tails,
             alpha: self.alpha,

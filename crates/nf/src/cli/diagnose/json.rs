@@ -68,9 +68,9 @@ struct UndecidedJson<'a> {
 struct SummaryJson {
     /// Azimuth psi, deg.
     azimuth_deg: Option<f64>,
-    /// Residual sum of squares of the fit on the whitened rates: (deg/h)^2 where the noise is
-    /// white, dimensionless (about its degrees of freedom) under a coloured model. It compares
-    /// the fits of one recording, not two recordings or `nf fit`'s `rss`.
+    /// Residual sum of squares of this fit's residuals in rate units, (deg/h)^2. Under a
+    /// coloured noise model the fit is GLS, which leaves the slow wander in its residuals: more
+    /// than white least squares' (`nf fit`'s `rss`).
     rss: f64,
     /// 1-sigma uncertainty of psi, arcsec.
     sigma_arcsec: f64,
