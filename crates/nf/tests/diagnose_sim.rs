@@ -536,3 +536,66 @@ fn heavy_tailed_samples_the_simulation_lacks_are_measured_and_put_in() {
     assert!(s.before.line(sim_compare::Quantity::SampleKurtosis).unwrap().mismatch);
     assert_eq!(s.fixed.file.noise.student_t_dof, 0.0);
 }
+
+#[test]
+fn a_scale_fitted_beside_a_nonlinearity_leaves_out_the_nonlinearity_s_own_gain() {
+    // The twin squares the rate with its bias, so a nonlinearity k gains the first harmonic
+    // by 1 + 2 k c: the fitted scale factor holds it, and the fix wrote both (an outside
+    // audit's k of 3e-4 at a bias of 0.3 deg/h: scale 1.00023, 3.6 of its sigmas off 1).
+    let mut both = 0;
+    for seed in 1..=3 {
+        let mut with = InstrumentFile::default();
+        with.gyro.nonlinearity_per_dph = 3e-4;
+        with.seed = seed;
+        let s = against(&recording(&with), &InstrumentFile::default());
+        let Some(scale) = s
+            .physics
+            .iter()
+            .find(|p| p.kind == Kind::ScaleFactor && p.verdict.needs_change())
+        else {
+            continue;
+        };
+        both += 1;
+        let sigma = scale.parameter.sigma.expect("a fitted scale has a sigma");
+        let fixed = s.fixed.file.gyro.scale;
+        eprintln!(
+            "seed {seed}: fitted {} +- {sigma}, written {fixed}",
+            scale.parameter.value
+        );
+        assert!(
+            (fixed - 1.0).abs() < 2.5 * sigma,
+            "seed {seed}: scale {fixed} +- {sigma}"
+        );
+    }
+    assert!(both >= 1, "the scale factor was named in none");
+}
+
+#[test]
+fn the_site_moves_only_by_the_recording_s_own_final() {
+    // A Gauss-Markov bias the file lacks, judged under the file's white noise: that
+    // diagnosis's final had a fifth of the printed final's sigma and moved the site 129" at
+    // 1.4 of the printed sigmas (an outside audit, its seed 2).
+    let mut judged_left = 0;
+    for seed in 1..=3 {
+        let mut with = InstrumentFile::default();
+        (with.noise.gm_sigma_dph, with.noise.gm_tau_s) = (0.01, 30.0);
+        with.seed = seed;
+        let rec = recording(&with);
+        let d = diagnose(&rec, &Options::default()).unwrap();
+        let file = InstrumentFile::default();
+        let opt = sim_compare::Options {
+            replays: 10,
+            ..sim_compare::Options::default()
+        };
+        let s = sim_compare::against(&rec, &d, &file, &opt).unwrap();
+        let apart = nf_model::angle::wrap_180(d.final_.azimuth_deg - file.site.azimuth_deg) * 3600.0;
+        let moved = s.fixed.file.site.azimuth_deg != file.site.azimuth_deg;
+        eprintln!(
+            "seed {seed}: final {apart:.1}\" +- {:.1}\", moved {moved}: {:?}",
+            d.final_.sigma_arcsec, s.fixed.changes
+        );
+        assert_eq!(moved, apart.abs() > 3.0 * d.final_.sigma_arcsec, "seed {seed}");
+        judged_left += usize::from(s.fixed.changes.iter().any(|c| c.starts_with("azimuth: the site left")));
+    }
+    assert!(judged_left >= 1, "no site judged");
+}

@@ -143,7 +143,11 @@ struct Target<'a> {
     /// Its Eq. 7 residuals.
     recording: &'a Residuals,
     mine: &'a profile::Profile,
+    /// The diagnosis the physics is judged by: the recording's own, or under the file's noise.
     diag: &'a Diagnosis,
+    /// The recording's own diagnosis, whose final (the one printed) says whether the site is
+    /// off: under the file's noise a wander the file lacks has too small a sigma.
+    own: &'a Diagnosis,
     opt: &'a Options,
     dwell_s: f64,
     origin_s: f64,
@@ -166,7 +170,7 @@ impl Target<'_> {
         changes.extend(noise);
         let (f2, tails) = sample_tails::fix(&f2, &cmp2, rec.rows.len());
         changes.extend(tails);
-        let (f3, moved, set) = fix::moments(&f2, &cmp2, self.diag);
+        let (f3, moved, set) = fix::moments(&f2, &cmp2, self.own);
         changes.extend(moved);
         let sims2 = replays(&f3, rec, opt.replays, run_origin_s(&f3));
         Fixed {
@@ -278,6 +282,7 @@ pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &O
             recording: &recording,
             mine: &mine,
             diag,
+            own: diag,
             opt,
             dwell_s,
             origin_s,
