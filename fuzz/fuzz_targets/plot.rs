@@ -60,7 +60,7 @@ fn panel(u: &mut Unstructured) -> Result<Panel> {
         series.push(Series {
             name: text(u)?,
             points,
-            style: *u.choose(&[Style::Line, Style::Points, Style::Bars])?,
+            style: *u.choose(&[Style::Line, Style::Points, Style::Bars, Style::Spread])?,
         });
     }
     Ok(Panel {

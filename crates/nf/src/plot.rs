@@ -19,6 +19,9 @@ pub enum Style {
     Points,
     /// Vertical bars, one per pair of points `(x, low), (x, high)`: error bars.
     Bars,
+    /// Bars as [`Style::Bars`], the spread of the series before it: in its colour, and
+    /// without a legend entry of their own (the name goes unused).
+    Spread,
 }
 
 #[derive(Debug, Clone)]

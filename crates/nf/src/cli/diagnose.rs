@@ -232,7 +232,7 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
             },
             Series {
                 name: "the findings as fitted".into(),
-                points: pick(x, |p| p.fitted),
+                points: unbroken_in_time(&d.points, x),
                 style: Style::Line,
             },
         ],
@@ -251,6 +251,29 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
         ),
         panel("residuals against time", "time (s)", |p| p.t_s),
     ]
+}
+
+/// The findings as fitted, by `x`, the line broken (by a point that cannot be drawn) between
+/// positions not visited one after the other: an effect of time drawn against the angle
+/// would otherwise jump across the plot where the visits do (the first position of a sweep,
+/// read at 359.998 deg, joined to the last).
+fn unbroken_in_time(points: &[Point], x: fn(&Point) -> f64) -> Vec<(f64, f64)> {
+    let mut by_time: Vec<usize> = (0..points.len()).collect();
+    by_time.sort_by(|&a, &b| points[a].t_s.total_cmp(&points[b].t_s));
+    let mut rank = vec![0; points.len()];
+    for (r, &i) in by_time.iter().enumerate() {
+        rank[i] = r;
+    }
+    let mut by_x: Vec<usize> = (0..points.len()).collect();
+    by_x.sort_by(|&a, &b| x(&points[a]).total_cmp(&x(&points[b])));
+    let mut line = Vec::with_capacity(2 * by_x.len());
+    for (k, &i) in by_x.iter().enumerate() {
+        if k > 0 && rank[i].abs_diff(rank[by_x[k - 1]]) != 1 {
+            line.push((f64::NAN, f64::NAN));
+        }
+        line.push((x(&points[i]), points[i].fitted));
+    }
+    line
 }
 
 fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
@@ -427,4 +450,42 @@ fn diagnose_evaluate(a: &DiagnoseArgs) -> Result<(), Fail> {
         write!(out, "{}", diagnose_eval::text(&ev, a.alpha))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn visits(gammas: &[f64]) -> Vec<Point> {
+        gammas
+            .iter()
+            .enumerate()
+            .map(|(i, &g)| Point {
+                t_s: 2.5 * i as f64,
+                gamma_deg: g,
+                before: 0.0,
+                after: 0.0,
+                fitted: i as f64,
+            })
+            .collect()
+    }
+
+    fn breaks(line: &[(f64, f64)]) -> usize {
+        line.iter().filter(|p| p.0.is_nan()).count()
+    }
+
+    #[test]
+    fn an_effect_of_time_against_the_angle_breaks_where_the_visits_jump() {
+        // A sweep whose first position reads 359.998 deg: one break, before it.
+        let sweep = visits(&[359.998, 90.0, 180.0, 270.0]);
+        let line = unbroken_in_time(&sweep, |p| p.gamma_deg);
+        assert_eq!(breaks(&line), 1);
+        assert_eq!(line.last(), Some(&(359.998, 0.0)));
+        // Opposite pairs: of the neighbours in angle only 180 and 90 deg were visited one
+        // after the other.
+        let pairs = visits(&[0.0, 180.0, 90.0, 270.0]);
+        assert_eq!(breaks(&unbroken_in_time(&pairs, |p| p.gamma_deg)), 2);
+        // Against time, never.
+        assert_eq!(breaks(&unbroken_in_time(&pairs, |p| p.t_s)), 0);
+    }
 }

@@ -304,6 +304,20 @@ fn allan(c: &Comparison, recording: bool) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The replays' spread of those Allan deviations: a bar of one sd either side of their
+/// mean at each averaging, shifted along x by `shift` so that two sets stand apart (its low
+/// end kept above a tenth of the mean, for the log axis).
+fn allan_spread(c: &Comparison, shift: f64) -> Vec<(f64, f64)> {
+    c.lines
+        .iter()
+        .filter_map(|l| match l.quantity {
+            Quantity::Allan(m) => Some((m as f64 * shift, l.simulated, l.simulated_sd)),
+            _ => None,
+        })
+        .flat_map(|(x, mean, sd)| [(x, (mean - sd).max(mean / 10.0)), (x, mean + sd)])
+        .collect()
+}
+
 pub fn panels(s: &SimReport) -> Vec<Panel> {
     let series = |name: &str, points, style| Series {
         name: name.into(),
@@ -330,8 +344,10 @@ pub fn panels(s: &SimReport) -> Vec<Panel> {
             // The recording as points: after the fix the simulation's line should lie on it.
             series: vec![
                 series("recording", allan(&s.before, true), Style::Points),
-                series("simulation (mean of replays)", allan(&s.before, false), Style::Line),
+                series("simulation: replays' mean and sd", allan(&s.before, false), Style::Line),
+                series("", allan_spread(&s.before, 0.97), Style::Spread),
                 series("after the fix", allan(&s.fixed.after, false), Style::Line),
+                series("", allan_spread(&s.fixed.after, 1.03), Style::Spread),
             ],
             log_x: true,
             log_y: true,

@@ -138,7 +138,14 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
     let y_size = fit_size(&y_label, h.saturating_sub(50), 15.0, 9.0, |s, z| width(&rest, s, z));
     // The plot's size within the margins and label areas below.
     let (pw, ph) = (w.saturating_sub(26 + y_area), h.saturating_sub(54));
-    let names: Vec<String> = p.series.iter().map(|s| clean(&s.name)).collect();
+    let names: Vec<String> = p
+        .series
+        .iter()
+        .map(|s| match s.style {
+            Style::Spread => String::new(),
+            _ => clean(&s.name),
+        })
+        .collect();
     let legend = legend_style(&rest, &names, pw);
     let (y, corner) = match legend {
         Some((_, b)) => {
@@ -173,8 +180,12 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
     let frame = Rectangle::new([(0, 0), (pw as i32 - 1, ph as i32 - 1)], FRAME);
     plot.draw(&frame).map_err(failed)?;
 
-    for (k, (s, name)) in p.series.iter().zip(&names).enumerate() {
-        draw_series(&mut chart, s, name, COLORS[k % COLORS.len()], (&x, &y))?;
+    // A spread takes the colour of the series before it.
+    let mut colour = 0;
+    for (s, name) in p.series.iter().zip(&names) {
+        colour += usize::from(s.style != Style::Spread);
+        let c = COLORS[(colour + COLORS.len() - 1) % COLORS.len()];
+        draw_series(&mut chart, s, name, c, (&x, &y))?;
     }
     if let (Some((size, _)), Some(corner)) = (legend, corner) {
         chart
@@ -234,7 +245,7 @@ fn draw_series<DB: DrawingBackend>(
             .filter(|run| run.len() > 1)
             .map(|run| PathElement::new(run.to_vec(), line))
             .collect::<Vec<_>>(),
-        Style::Bars => s
+        Style::Bars | Style::Spread => s
             .points
             .chunks_exact(2)
             .filter(|b| good(&b[0]) && good(&b[1]))

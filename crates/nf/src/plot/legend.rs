@@ -83,7 +83,7 @@ fn reaches(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: LegendBox
         Style::Line => s.points.split(|q| !good(q)).any(|run| {
             run.windows(2).any(|seg| segment(px(&seg[0]), px(&seg[1])).any(inside)) || run.iter().map(px).any(inside)
         }),
-        Style::Bars => s
+        Style::Bars | Style::Spread => s
             .points
             .chunks_exact(2)
             .filter(|bar| good(&bar[0]) && good(&bar[1]))

@@ -231,3 +231,22 @@ fn stacked_panels_share_their_plotting_areas_left_edge() {
         .collect();
     assert_eq!(lefts.len(), 1, "{lefts:?}");
 }
+
+#[test]
+fn a_spread_takes_the_colour_of_the_series_before_it_and_no_legend_entry() {
+    let mut p = panel();
+    p.series.insert(
+        1,
+        Series {
+            name: "not shown".into(),
+            points: vec![(0.0, 0.5), (0.0, 1.5), (1.0, 1.5), (1.0, 2.5)],
+            style: Style::Spread,
+        },
+    );
+    let svg = render_svg(&[p]);
+    // The line, its legend marker and the two bars in the line's colour; the points after
+    // keep the second colour.
+    assert_eq!(svg.matches(r##"stroke="#1F77B4""##).count(), 4, "{svg}");
+    assert_eq!(svg.matches(r##"fill="#D62728""##).count(), 2, "{svg}");
+    assert!(!svg.contains("not shown"));
+}
