@@ -599,3 +599,21 @@ fn the_site_moves_only_by_the_recording_s_own_final() {
     }
     assert!(judged_left >= 1, "no site judged");
 }
+
+#[test]
+fn a_bias_moved_says_the_gyro_elevation_it_could_be() {
+    // The gyro axis raised 0.29 deg: the Earth rate's vertical part adds a constant that one
+    // run cannot tell from a bias (an outside audit: "misalignment is never named").
+    let mut raised = InstrumentFile::default();
+    raised.gyro.elevation_deg += 0.29;
+    let s = against(&recording(&raised), &InstrumentFile::default());
+    let note = s.fixed.changes.iter().find(|c| c.starts_with("bias: moved by"));
+    let note = note.unwrap_or_else(|| panic!("{:?}", s.fixed.changes));
+    let elevation: f64 = note
+        .split("elevation moved by ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{note}"));
+    assert!((elevation - 0.29).abs() < 0.02, "{note}");
+}

@@ -373,6 +373,21 @@ pub fn noise(
     (f, notes)
 }
 
+/// A bias change `db` as the gyro axis's elevation would make it, through the Earth rate's
+/// vertical part `WE sin(lat) sin(e)`: within one run the two are the same constant.
+fn as_elevation(file: &InstrumentFile, db: f64) -> String {
+    let vertical = nf_model::EARTH_RATE_DPH * file.site.latitude_deg.to_radians().sin() * file.gyro.scale;
+    let e0 = file.gyro.elevation_deg.to_radians();
+    let now = e0.sin() + db / vertical;
+    if vertical.abs() < 0.5 || now.abs() > 0.5 {
+        return String::new();
+    }
+    format!(
+        " (or, the same in one run, the gyro axis's elevation moved by {:+.4} deg: the Earth rate's vertical part)",
+        (now.asin() - e0).to_degrees()
+    )
+}
+
 /// How many of the recording's final sigmas its azimuth must lie from the file's before the
 /// fix moves the site: the replays' Eq. 7 azimuth also differs from the recording's by what
 /// the fitted effects miss (a jump fitted 1 sigma short moved the site 86" in an outside
@@ -396,7 +411,11 @@ pub fn moments(
     let off = |q: Quantity| cmp.line(q).filter(|l| l.mismatch).map(|l| (l.recording, l.simulated));
     if let Some((r, s)) = off(Quantity::Bias) {
         f.gyro.bias_dph = (f.gyro.bias_dph + r - s).clamp(-50.0, 50.0);
-        notes.push(format!("bias: moved by {:+.5} deg/h", r - s));
+        notes.push(format!(
+            "bias: moved by {:+.5} deg/h{}",
+            r - s,
+            as_elevation(file, r - s)
+        ));
         moved.push(Quantity::Bias);
     }
     if let Some((r, s)) = off(Quantity::Azimuth) {
