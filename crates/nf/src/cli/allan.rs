@@ -364,7 +364,14 @@ impl Report<'_> {
                     Term::Quantization => "Q: quantisation".into(),
                     Term::GaussMarkov { tau_s } => format!("Gauss-Markov, tau {} s", g(*tau_s)),
                 };
-                series.push(line(name, &m, r));
+                // A term far below every measured point is not drawn there: it would
+                // stretch the axis by decades of nothing.
+                let floor = self.points.iter().map(|p| p.avar.sqrt()).fold(f64::INFINITY, f64::min) / 5.0;
+                let mut term_line = line(name, &m, r);
+                for q in term_line.points.iter_mut().filter(|q| q.1 < floor) {
+                    q.1 = f64::NAN;
+                }
+                series.push(term_line);
             }
         }
         Panel {

@@ -108,7 +108,8 @@ fn title<DB: DrawingBackend>(area: &Area<DB>, text: &str) -> Result<Area<DB>, Fa
 /// The panel's axes: x over every point, y over those x can show.
 fn axes(p: &Panel) -> (Axis, Axis) {
     let all = || p.series.iter().flat_map(|s| s.points.iter());
-    let x = Axis::fit(all().map(|q| q.0), p.log_x, 0.0);
+    // A little room either side: the first and last dots are not cut by the frame.
+    let x = Axis::fit(all().map(|q| q.0), p.log_x, 0.02);
     let y_pts = all().filter(|q| x.shows(q.0)).map(|q| q.1);
     let y = Axis::fit(y_pts, p.log_y, 0.05);
     (x, y)
@@ -238,13 +239,19 @@ fn draw_series<DB: DrawingBackend>(
             }
             return Ok(());
         }
-        // A point that cannot be shown breaks the line.
-        Style::Line => s
-            .points
-            .split(|q| !good(q))
-            .filter(|run| run.len() > 1)
-            .map(|run| PathElement::new(run.to_vec(), line))
-            .collect::<Vec<_>>(),
+        // A point that cannot be shown breaks the line; a point alone between two breaks is
+        // a small dot.
+        Style::Line => {
+            let lone = s.points.split(|q| !good(q)).filter(|run| run.len() == 1);
+            chart
+                .draw_series(lone.map(|run| Circle::new(run[0], 2, c.filled())))
+                .map_err(failed)?;
+            s.points
+                .split(|q| !good(q))
+                .filter(|run| run.len() > 1)
+                .map(|run| PathElement::new(run.to_vec(), line))
+                .collect::<Vec<_>>()
+        }
         Style::Bars | Style::Spread => s
             .points
             .chunks_exact(2)

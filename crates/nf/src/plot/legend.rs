@@ -44,8 +44,12 @@ pub(super) struct Placement {
 const INSET: f64 = 5.0;
 /// Clearance around the box: a dot's radius and a little, px.
 const CLEAR: f64 = 4.0;
-/// The y axis gives a legend at most this share of its height.
-pub(super) const MOST_ROOM: f64 = 0.6;
+/// The y axis grows by at most this factor to leave a legend room above the data: more
+/// would squeeze the data for a legend (an Allan plot's six entries over its term lines
+/// made room of several decades).
+const MOST_GROWTH: f64 = 1.4;
+/// The share of the y axis a legend's room may take.
+pub(super) const MOST_ROOM: f64 = 1.0 - 1.0 / MOST_GROWTH;
 
 /// Corners in order of preference: top before bottom, left before right.
 const CORNERS: [Corner; 4] = [
@@ -58,37 +62,97 @@ const CORNERS: [Corner; 4] = [
     },
 ];
 
-/// Where the legend `b` goes in a plot of `pw` by `ph` pixels over the axes `x` and `y`.
+/// Where the legend `b` goes in a plot of `pw` by `ph` pixels over the axes `x` and `y`: the
+/// first corner nothing drawn reaches; else the top corner that needs the least room made
+/// above the data within its width, where that is at most [`MOST_GROWTH`]; else the corner
+/// that covers least (a dot or a bar counting as much as a whole line: covering data hides
+/// more than covering a model).
 pub(super) fn place(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: LegendBox) -> Placement {
-    match CORNERS.into_iter().find(|&c| !reaches(p, (x, y), (pw, ph), b, c)) {
-        Some(corner) => Placement { corner, y: y.clone() },
-        None => Placement {
-            corner: CORNERS[0],
-            y: y.with_room_above(((INSET + b.h + CLEAR) / ph.max(1.0)).min(MOST_ROOM)),
-        },
+    let drawn = drawn(p, (x, y), (pw, ph));
+    let boxed = |c: Corner| boxed(c, b, (pw, ph));
+    let inside = |c: Corner, q: &Mark| {
+        let (x0, x1, y0, y1) = boxed(c);
+        (x0..=x1).contains(&q.x) && (y0..=y1).contains(&q.y)
+    };
+    if let Some(corner) = CORNERS.into_iter().find(|&c| !drawn.iter().any(|q| inside(c, q))) {
+        return Placement { corner, y: y.clone() };
     }
+    // The growth of the axis that brings everything under the box below its bottom edge.
+    let growth = |c: Corner| {
+        let (x0, x1, _, y1) = boxed(c);
+        let highest = drawn
+            .iter()
+            .filter(|q| (x0..=x1).contains(&q.x))
+            .map(|q| ph - q.y)
+            .fold(0.0, f64::max);
+        // Two pixels more: the box's edge is inside it, and positions are rounded.
+        (highest + 2.0) / (ph - y1).max(1.0)
+    };
+    let top = CORNERS[..2]
+        .iter()
+        .map(|&c| (c, growth(c)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((corner, g)) = top.filter(|(_, g)| *g <= MOST_GROWTH) {
+        return Placement {
+            corner,
+            y: y.with_room_above(1.0 - 1.0 / g.max(1.0)),
+        };
+    }
+    let cover = |c: Corner| drawn.iter().filter(|q| inside(c, q)).map(|q| q.weight).sum::<f64>();
+    let corner = CORNERS
+        .into_iter()
+        .min_by(|&a, &b| cover(a).total_cmp(&cover(b)))
+        .unwrap_or(CORNERS[0]);
+    Placement { corner, y: y.clone() }
 }
 
-/// Whether anything drawn of `p` comes within the box at `corner`.
-fn reaches(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: LegendBox, c: Corner) -> bool {
+/// The box at corner `c`, with plotters' inset and a clearance: `x0, x1, y0, y1`, pixels, y
+/// down.
+fn boxed(c: Corner, b: LegendBox, (pw, ph): (f64, f64)) -> (f64, f64, f64, f64) {
     let (w, h) = (INSET + b.w + CLEAR, INSET + b.h + CLEAR);
     let (x0, x1) = if c.left { (0.0, w) } else { (pw - w, pw) };
     let (y0, y1) = if c.top { (0.0, h) } else { (ph - h, ph) };
-    let inside = |(a, c): (f64, f64)| (x0..=x1).contains(&a) && (y0..=y1).contains(&c);
-    // Pixels, y down, as plotters maps them.
+    (x0, x1, y0, y1)
+}
+
+/// A place where something is drawn, pixels (y down), and how much covering it hides.
+struct Mark {
+    x: f64,
+    y: f64,
+    weight: f64,
+}
+
+/// Every place something of `p` is drawn: its dots, and points along its lines and bars no
+/// more than 2 px apart; each dot, each bar and each whole line weighs 1.
+fn drawn(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64)) -> Vec<Mark> {
     let px = |(a, c): &(f64, f64)| (f64::from(x.map(a, (0, pw as i32))), f64::from(y.map(c, (ph as i32, 0))));
     let good = |&(a, c): &(f64, f64)| x.shows(a) && y.shows(c);
-    p.series.iter().any(|s| match s.style {
-        Style::Points => s.points.iter().filter(|q| good(q)).map(px).any(inside),
-        Style::Line => s.points.split(|q| !good(q)).any(|run| {
-            run.windows(2).any(|seg| segment(px(&seg[0]), px(&seg[1])).any(inside)) || run.iter().map(px).any(inside)
-        }),
-        Style::Bars | Style::Spread => s
-            .points
-            .chunks_exact(2)
-            .filter(|bar| good(&bar[0]) && good(&bar[1]))
-            .any(|bar| segment(px(&bar[0]), px(&bar[1])).any(inside)),
-    })
+    let weighed = |places: Vec<(f64, f64)>| {
+        let weight = 1.0 / places.len().max(1) as f64;
+        places.into_iter().map(move |(x, y)| Mark { x, y, weight })
+    };
+    let mut out = Vec::new();
+    for s in &p.series {
+        match s.style {
+            Style::Points => out.extend(s.points.iter().filter(|q| good(q)).flat_map(|q| weighed(vec![px(q)]))),
+            Style::Line => {
+                let mut places = Vec::new();
+                for run in s.points.split(|q| !good(q)) {
+                    places.extend(run.iter().map(px));
+                    for seg in run.windows(2) {
+                        places.extend(segment(px(&seg[0]), px(&seg[1])));
+                    }
+                }
+                out.extend(weighed(places));
+            }
+            Style::Bars | Style::Spread => {
+                for bar in s.points.chunks_exact(2).filter(|bar| good(&bar[0]) && good(&bar[1])) {
+                    out.extend(weighed(segment(px(&bar[0]), px(&bar[1])).collect()));
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Points along a segment no more than 2 px apart, both ends included.
@@ -100,6 +164,15 @@ fn segment(a: (f64, f64), b: (f64, f64)) -> impl Iterator<Item = (f64, f64)> {
         let t = i as f64 / steps as f64;
         (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)
     })
+}
+
+/// Whether anything drawn of `p` comes within the box at `corner`.
+#[cfg(test)]
+fn reaches(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: LegendBox, c: Corner) -> bool {
+    let (x0, x1, y0, y1) = boxed(c, b, (pw, ph));
+    drawn(p, (x, y), (pw, ph))
+        .iter()
+        .any(|q| (x0..=x1).contains(&q.x) && (y0..=y1).contains(&q.y))
 }
 
 #[cfg(test)]
@@ -189,5 +262,39 @@ mod tests {
         log.log_y = true;
         let at = placed(&log);
         assert!(at.y.range().end > 100.0 * 1.2, "{:?}", at.y);
+    }
+
+    #[test]
+    fn the_room_made_is_what_the_data_under_the_box_need() {
+        // The left side reaches 0.8 and the right 1.0: room for the 0.8 under the left box.
+        let p = panel(vec![series(
+            vec![(0.0, 0.0), (0.0, 0.8), (1.0, 0.0), (1.0, 1.0)],
+            Style::Points,
+        )]);
+        let at = placed(&p);
+        assert_eq!(at.corner, CORNERS[0]);
+        let right = {
+            let mut q = p.clone();
+            q.series[0].points = vec![(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)];
+            placed(&q).y.range().end
+        };
+        assert!(at.y.range().end < right, "{:?} against {right}", at.y);
+    }
+
+    #[test]
+    fn a_legend_too_tall_for_its_room_takes_the_corner_it_covers_least() {
+        // A box of two thirds of the plot: making room would squeeze the data to a third.
+        // The dots sit in the upper corners and the lower left; a line's end alone in the
+        // lower right.
+        let p = panel(vec![
+            series(vec![(0.0, 0.0), (0.0, 1.0), (1.0, 1.0)], Style::Points),
+            series(vec![(0.5, 0.5), (1.0, 0.0)], Style::Line),
+        ]);
+        let x = Axis::fit([0.0, 1.0], false, 0.0);
+        let y = Axis::fit([0.0, 1.0], false, 0.05);
+        let tall = LegendBox { w: 120.0, h: 130.0 };
+        let at = place(&p, (&x, &y), PLOT, tall);
+        assert_eq!(at.corner, CORNERS[3]);
+        assert_eq!(at.y.range(), y.range(), "no room made");
     }
 }
