@@ -46,8 +46,10 @@ pub fn cmd_paper(a: PaperArgs) -> Result<(), Fail> {
             log_y: false,
         };
         let mut fig7 = Panel {
-            title: "Fig. 7: shaft tilt, Eq. 30 (eta = sigma_eta, n = 180, psi = 45) and the exact model".into(),
-            x_label: "shaft misalignment eta (deg)".into(),
+            title:
+                "Fig. 7: shaft misalignment (tilt) eta, Eq. 30 (eta = sigma_eta, n = 180, psi = 45) and the exact model"
+                    .into(),
+            x_label: "shaft misalignment (tilt) eta (deg)".into(),
             y_label: "sigma psi (arcsec)".into(),
             series: epss
                 .iter()

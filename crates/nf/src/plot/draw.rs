@@ -181,12 +181,16 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
     let frame = Rectangle::new([(0, 0), (pw as i32 - 1, ph as i32 - 1)], FRAME);
     plot.draw(&frame).map_err(failed)?;
 
-    // A spread takes the colour of the series before it.
+    // A spread takes the colour of the series before it. Dots of a series drawn before
+    // others are larger, one pixel for each drawn after it: where they coincide (residuals
+    // before and after a finding that changes few) each shows as a ring round the next.
     let mut colour = 0;
-    for (s, name) in p.series.iter().zip(&names) {
+    for (k, (s, name)) in p.series.iter().zip(&names).enumerate() {
         colour += usize::from(s.style != Style::Spread);
         let c = COLORS[(colour + COLORS.len() - 1) % COLORS.len()];
-        draw_series(&mut chart, s, name, c, (&x, &y))?;
+        let later = p.series[k + 1..].iter().filter(|s| s.style == Style::Points).count();
+        let radius = 3 + later.min(2) as u32;
+        draw_series(&mut chart, s, name, (c, radius), (&x, &y))?;
     }
     if let (Some((size, _)), Some(corner)) = (legend, corner) {
         chart
@@ -222,7 +226,7 @@ fn draw_series<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     s: &Series,
     name: &str,
-    c: RGBColor,
+    (c, radius): (RGBColor, u32),
     (x, y): (&Axis, &Axis),
 ) -> Result<(), Failed> {
     let good = |&(a, b): &(f64, f64)| x.shows(a) && y.shows(b);
@@ -230,7 +234,7 @@ fn draw_series<DB: DrawingBackend>(
     let drawn = match s.style {
         Style::Points => {
             let dots = s.points.iter().filter(|q| good(q));
-            let dots = dots.map(|&q| Circle::new(q, 3, c.filled()));
+            let dots = dots.map(|&q| Circle::new(q, radius, c.filled()));
             let drawn = chart.draw_series(dots).map_err(failed)?;
             if !name.is_empty() {
                 drawn

@@ -42,8 +42,8 @@ pub(super) struct Placement {
 
 /// Plotters' gap between the box and the plot's edge, px.
 const INSET: f64 = 5.0;
-/// Clearance around the box: a dot's radius and a little, px.
-const CLEAR: f64 = 4.0;
+/// Clearance around the box: the largest dot's radius and a little, px.
+const CLEAR: f64 = 6.0;
 /// The y axis grows by at most this factor to leave a legend room above the data: more
 /// would squeeze the data for a legend (an Allan plot's six entries over its term lines
 /// made room of several decades).

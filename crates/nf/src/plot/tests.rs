@@ -250,3 +250,17 @@ fn a_spread_takes_the_colour_of_the_series_before_it_and_no_legend_entry() {
     assert_eq!(svg.matches(r##"fill="#D62728""##).count(), 2, "{svg}");
     assert!(!svg.contains("not shown"));
 }
+
+#[test]
+fn dots_drawn_before_others_are_larger_so_that_coinciding_ones_show() {
+    let mut p = panel();
+    p.series.push(Series {
+        name: "after".into(),
+        points: vec![(0.5, 1.5)],
+        style: Style::Points,
+    });
+    let svg = render_svg(&[p]);
+    // The first dots ring the second's at the same place; the legend's markers stay 3.
+    assert_eq!(svg.matches(r#"r="4""#).count(), 1, "{svg}");
+    assert_eq!(svg.matches(r#"r="3""#).count(), 3, "{svg}");
+}
