@@ -1,6 +1,6 @@
 //! Where a panel's legend goes: the first corner of the plot that no point, bar or line
-//! reaches, or, where every corner holds some, above the data in room made for it at the
-//! top of the y axis. A legend never hides what is drawn.
+//! reaches; where every corner holds some, above the data in room made for it at the top
+//! of the y axis; and only where that room would squeeze the data, over what it hides least.
 
 use super::axis::Axis;
 use super::{Panel, Style};
