@@ -181,16 +181,16 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
     let frame = Rectangle::new([(0, 0), (pw as i32 - 1, ph as i32 - 1)], FRAME);
     plot.draw(&frame).map_err(failed)?;
 
-    // A spread takes the colour of the series before it. Dots of a series drawn before
-    // others are larger, one pixel for each drawn after it: where they coincide (residuals
-    // before and after a finding that changes few) each shows as a ring round the next.
+    // A spread takes the colour of the series before it. Dots and lines of a series drawn
+    // before others of their kind are larger, one pixel for each drawn after (up to two):
+    // where they coincide (residuals before and after a finding that changes few, a model
+    // equal to another) each shows round the next.
     let mut colour = 0;
     for (k, (s, name)) in p.series.iter().zip(&names).enumerate() {
         colour += usize::from(s.style != Style::Spread);
         let c = COLORS[(colour + COLORS.len() - 1) % COLORS.len()];
-        let later = p.series[k + 1..].iter().filter(|s| s.style == Style::Points).count();
-        let radius = 3 + later.min(2) as u32;
-        draw_series(&mut chart, s, name, (c, radius), (&x, &y))?;
+        let later = p.series[k + 1..].iter().filter(|l| l.style == s.style).count();
+        draw_series(&mut chart, s, name, (c, later.min(2) as u32), (&x, &y))?;
     }
     if let (Some((size, _)), Some(corner)) = (legend, corner) {
         chart
@@ -226,11 +226,12 @@ fn draw_series<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     s: &Series,
     name: &str,
-    (c, radius): (RGBColor, u32),
+    (c, larger): (RGBColor, u32),
     (x, y): (&Axis, &Axis),
 ) -> Result<(), Failed> {
     let good = |&(a, b): &(f64, f64)| x.shows(a) && y.shows(b);
-    let line = c.stroke_width(2);
+    let (radius, line) = (3 + larger, c.stroke_width(2 + larger));
+    let legend_line = c.stroke_width(2);
     let drawn = match s.style {
         Style::Points => {
             let dots = s.points.iter().filter(|q| good(q));
@@ -267,7 +268,7 @@ fn draw_series<DB: DrawingBackend>(
     if !name.is_empty() {
         drawn
             .label(name)
-            .legend(move |(a, b)| PathElement::new([(a, b), (a + 16, b)], line));
+            .legend(move |(a, b)| PathElement::new([(a, b), (a + 16, b)], legend_line));
     }
     Ok(())
 }

@@ -252,15 +252,23 @@ fn a_spread_takes_the_colour_of_the_series_before_it_and_no_legend_entry() {
 }
 
 #[test]
-fn dots_drawn_before_others_are_larger_so_that_coinciding_ones_show() {
+fn dots_and_lines_drawn_before_others_are_larger_so_that_coinciding_ones_show() {
     let mut p = panel();
     p.series.push(Series {
         name: "after".into(),
         points: vec![(0.5, 1.5)],
         style: Style::Points,
     });
+    p.series.push(Series {
+        name: "model".into(),
+        points: vec![(0.0, 1.0), (1.0, 2.0)],
+        style: Style::Line,
+    });
     let svg = render_svg(&[p]);
-    // The first dots ring the second's at the same place; the legend's markers stay 3.
+    // The first dots ring the second's at the same place, the first line the second; the
+    // legend's markers stay as they were.
     assert_eq!(svg.matches(r#"r="4""#).count(), 1, "{svg}");
     assert_eq!(svg.matches(r#"r="3""#).count(), 3, "{svg}");
+    assert_eq!(svg.matches(r#"stroke-width="3""#).count(), 1, "{svg}");
+    assert_eq!(svg.matches(r#"stroke-width="2""#).count(), 3, "{svg}");
 }
