@@ -127,19 +127,20 @@ impl Estimate {
                 .filter(|c| keep(&c.model))
                 .max_by(|a, b| a.loglik.total_cmp(&b.loglik))
         };
+        // The likelihood-ratio p-value of term `t` in `from` against the best `without` it.
+        let test = |t: Term, from: &Candidate, without: Option<&Candidate>| {
+            let without = without.map_or(f64::MIN, |c| c.loglik);
+            (t, chi2_sf(2.0 * (from.loglik - without).max(0.0), t.dof()))
+        };
         let mut choices = Vec::new();
         for (terms, member) in families {
             let Some(top) = best(&member) else { continue };
-            let tests: Vec<(Term, f64)> = terms
+            let mut tests: Vec<(Term, f64)> = terms
                 .iter()
                 .filter(|t| !t.absent(&top.model))
-                .map(|&t| {
-                    let without = best(&|m| member(m) && t.absent(m)).map_or(f64::MIN, |c| c.loglik);
-                    (t, chi2_sf(2.0 * (top.loglik - without).max(0.0), t.dof()))
-                })
+                .map(|&t| test(t, top, best(&|m| member(m) && t.absent(m))))
                 .collect();
             let mut dropped: Vec<Term> = tests.iter().filter(|(_, p)| *p >= KEEP).map(|(t, _)| *t).collect();
-            let mut tests = tests;
             // Each may go given the other but not both (flicker and a walk both explain a
             // strong wander): the one that matters least goes, and the other is tested
             // against the family without either (white noise was kept with chi-square 82 on
@@ -152,14 +153,7 @@ impl Estimate {
                 tests = terms
                     .iter()
                     .filter(|&&t| t != least && !t.absent(&rest.model))
-                    .map(|&t| {
-                        let without = best(&|m| member(m) && least.absent(m) && t.absent(m));
-                        let p = chi2_sf(
-                            2.0 * (rest.loglik - without.map_or(f64::MIN, |c| c.loglik)).max(0.0),
-                            t.dof(),
-                        );
-                        (t, p)
-                    })
+                    .map(|&t| test(t, rest, best(&|m| member(m) && least.absent(m) && t.absent(m))))
                     .collect();
                 dropped = std::iter::once(least)
                     .chain(tests.iter().filter(|(_, p)| *p >= KEEP).map(|(t, _)| *t))

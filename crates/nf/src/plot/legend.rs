@@ -70,10 +70,7 @@ const CORNERS: [Corner; 4] = [
 pub(super) fn place(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: LegendBox) -> Placement {
     let drawn = drawn(p, (x, y), (pw, ph));
     let boxed = |c: Corner| boxed(c, b, (pw, ph));
-    let inside = |c: Corner, q: &Mark| {
-        let (x0, x1, y0, y1) = boxed(c);
-        (x0..=x1).contains(&q.x) && (y0..=y1).contains(&q.y)
-    };
+    let inside = |c: Corner, q: &Mark| q.inside(boxed(c));
     if let Some(corner) = CORNERS.into_iter().find(|&c| !drawn.iter().any(|q| inside(c, q))) {
         return Placement { corner, y: y.clone() };
     }
@@ -120,6 +117,13 @@ struct Mark {
     x: f64,
     y: f64,
     weight: f64,
+}
+
+impl Mark {
+    /// Whether it lies within `x0, x1, y0, y1` ([`boxed`]).
+    fn inside(&self, (x0, x1, y0, y1): (f64, f64, f64, f64)) -> bool {
+        (x0..=x1).contains(&self.x) && (y0..=y1).contains(&self.y)
+    }
 }
 
 /// Every place something of `p` is drawn: its dots, and points along its lines and bars no
@@ -169,10 +173,9 @@ fn segment(a: (f64, f64), b: (f64, f64)) -> impl Iterator<Item = (f64, f64)> {
 /// Whether anything drawn of `p` comes within the box at `corner`.
 #[cfg(test)]
 fn reaches(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: LegendBox, c: Corner) -> bool {
-    let (x0, x1, y0, y1) = boxed(c, b, (pw, ph));
     drawn(p, (x, y), (pw, ph))
         .iter()
-        .any(|q| (x0..=x1).contains(&q.x) && (y0..=y1).contains(&q.y))
+        .any(|q| q.inside(boxed(c, b, (pw, ph))))
 }
 
 #[cfg(test)]
