@@ -83,19 +83,46 @@ pub fn parse_fixed(text: &[u8], decimals: u32) -> Result<i64, DecimalError> {
     }
 }
 
-/// `units * 10^-decimals` as the nearest `f32` for `|units|` up to `2^24` and `decimals` up to
-/// 10 (both exact, one rounding in the division); above, within one unit of the last place,
-/// and exact for a whole number. No `f64`: the firmware has none.
+/// `units * 10^-decimals` as the nearest `f32` (ties to even), for every `units` and
+/// `decimals` up to [`MAX_DECIMALS`]. No `f64` (the firmware has none) and no float rounding
+/// but the last: the quotient's bits come from integer long division.
 pub fn to_f32(units: i64, decimals: u32) -> f32 {
-    const EXACT: i64 = 1 << 24;
-    let scale = pow10(decimals.min(MAX_DECIMALS)) as i64;
-    if (-EXACT..=EXACT).contains(&units) {
-        // One VCVT on the M4F.
-        units as i32 as f32 / scale as f32
-    } else {
-        // The whole units and the fraction apart: `60` with 9 decimals is 60, not 60.000004.
-        (units / scale) as f32 + (units % scale) as f32 / scale as f32
+    const EXACT: u64 = 1 << 24;
+    let scale = pow10(decimals.min(MAX_DECIMALS));
+    let n = units.unsigned_abs();
+    let sign = if units < 0 { -1.0 } else { 1.0 };
+    if n <= EXACT && scale <= EXACT {
+        // Both exact in f32: one rounding, in the division (one VDIV on the M4F).
+        return sign * (n as f32 / scale as f32);
     }
+    // m = floor(n / scale * 2^k) with at least 40 bits, its last bit set when a remainder is
+    // left (a sticky bit far below the 24 kept).
+    let (mut m, mut rem, mut k) = (n / scale, n % scale, 0i32);
+    if m == 0 && rem == 0 {
+        return 0.0;
+    }
+    while m < 1 << 40 {
+        rem *= 2;
+        m = 2 * m + (rem >= scale) as u64;
+        if rem >= scale {
+            rem -= scale;
+        }
+        k += 1;
+    }
+    m |= (rem != 0) as u64;
+    // The top 24 bits, rounded to nearest, ties to even.
+    let shift = 40 - m.leading_zeros() as i32;
+    let mut mant = m >> shift;
+    let rest = m & ((1 << shift) - 1);
+    let half = 1u64 << (shift - 1);
+    mant += (rest > half || (rest == half && mant & 1 == 1)) as u64;
+    // mant <= 2^24 is exact in f32; the powers of two scale it exactly (normal range).
+    sign * mant as f32 * pow2(shift - k)
+}
+
+/// `2^e` for `|e| <= 126`.
+fn pow2(e: i32) -> f32 {
+    f32::from_bits(((127 + e) as u32) << 23)
 }
 
 #[cfg(test)]
@@ -183,12 +210,43 @@ mod tests {
             let want: f32 = s.parse().unwrap();
             assert_eq!(to_f32(p(s, 9).unwrap(), 9), want, "{s}");
         }
-        // Past 2^24 units: within one unit of the last place.
-        for s in ["123456.789123456", "0.016777217", "999999999.999999999", "-0.987654321"] {
-            let want: f64 = s.parse().unwrap();
-            let got = to_f32(p(s, 9).unwrap(), 9) as f64;
-            assert!((got - want).abs() <= want.abs() * f32::EPSILON as f64, "{s}: {got}");
+        // Past 2^24 units too: the nearest f32, as Rust's parser reads the text.
+        for s in [
+            "123456.789123456",
+            "0.016777217",
+            "999999999.999999999",
+            "-0.987654321",
+            "0.069021955",
+            "-33.912345678",
+        ] {
+            let want: f32 = s.parse().unwrap();
+            assert_eq!(to_f32(p(s, 9).unwrap(), 9), want, "{s}");
         }
         assert_eq!(to_f32(i64::MAX, 0), 9.223372e18);
+        assert_eq!(to_f32(i64::MIN, 0), -9.223372e18);
+        assert_eq!(to_f32(1, 18), 1e-18);
+        assert_eq!(to_f32(-i64::MAX, 18), -9.223372);
+        assert_eq!(to_f32(0, 18), 0.0);
+    }
+
+    /// Random counts and decimals against Rust's own correctly rounded parse of the same text.
+    #[test]
+    fn every_count_is_read_as_the_nearest_f32() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..200_000 {
+            let bits = next() % 64;
+            let units = (next() >> (63 - bits.min(62))) as i64 * if next() % 2 == 0 { 1 } else { -1 };
+            let d = (next() % (MAX_DECIMALS as u64 + 1)) as u32;
+            let mut text = std::string::String::new();
+            nf_model::text::write_units(&mut text, units, d).unwrap();
+            let want: f32 = text.parse().unwrap();
+            assert_eq!(to_f32(units, d), want, "{text}");
+        }
     }
 }

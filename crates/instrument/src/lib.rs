@@ -18,6 +18,7 @@ pub mod encoder_angle;
 mod fault_text;
 pub mod inclinometer;
 pub mod link;
+pub mod link_key;
 pub mod record;
 pub mod run;
 pub mod session;

@@ -16,21 +16,12 @@
 //! to micro-arcseconds, noise terms to 1e-9 of their units, `cal_zero` to micro-counts and
 //! `cal_scale` to 1e-15 deg/h per count; further digits round.
 
-use crate::decimal::{self, DecimalError};
+use crate::decimal;
+pub use crate::link_key::{
+    ANGLE_DECIMALS, CAL_SCALE_DECIMALS, CAL_ZERO_DECIMALS, Key, NOISE_DECIMALS, NoiseTerm, TARGET_DECIMALS,
+};
 use crate::run::{RunConfig, TiltPolicy};
-use nf_model::dwell::Calibration;
 use nf_model::order::{Order, OrderError, VisitList};
-
-/// Decimals of the latitude and the tilt limit: micro-degrees.
-pub const ANGLE_DECIMALS: u32 = 6;
-/// Decimals of the target: micro-arcseconds.
-pub const TARGET_DECIMALS: u32 = 6;
-/// Decimals of the noise terms: 1e-9 of their units.
-pub const NOISE_DECIMALS: u32 = 9;
-/// Decimals of `cal_zero`: micro-counts.
-pub const CAL_ZERO_DECIMALS: u32 = Calibration::ZERO_DECIMALS;
-/// Decimals of `cal_scale`: 1e-15 deg/h per count.
-pub const CAL_SCALE_DECIMALS: u32 = Calibration::SCALE_DECIMALS;
 
 /// A setting the host can change; values as the line gives them, in fixed point (the
 /// `*_DECIMALS` constants); [`apply`] converts them.
@@ -58,25 +49,6 @@ pub enum Setting {
     CalScale(i64),
 }
 
-/// A term of the gyro's noise model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum NoiseTerm {
-    Arw,
-    BiasInstability,
-    Rrw,
-    GmSigma,
-    GmTau,
-}
-
-const NOISE_KEYS: [(&str, NoiseTerm); 5] = [
-    ("arw", NoiseTerm::Arw),
-    ("bias_instability", NoiseTerm::BiasInstability),
-    ("rrw", NoiseTerm::Rrw),
-    ("gm_sigma", NoiseTerm::GmSigma),
-    ("gm_tau", NoiseTerm::GmTau),
-];
-
 // A listed order travels inline (no allocator); the link holds one command at a time.
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -101,40 +73,36 @@ pub enum LinkError {
     UnknownCommand,
     UnknownKey,
     MissingValue,
-    BadValue,
-    OutOfRange,
+    /// The value is not of the key's kind.
+    BadValue(Key),
+    /// The value is outside the key's range.
+    OutOfRange(Key),
+    /// Words after the command's last.
+    ExtraWords,
     Order(OrderError),
     /// `SET order+` when the order is not a list.
     NoListToExtend,
 }
 
 impl LinkError {
-    pub fn message(&self) -> &'static str {
-        match self {
+    /// The message, through `write_str` alone (no `core::fmt` on the MCU).
+    pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
+        w.write_str(match self {
             LinkError::Empty => "empty line",
             LinkError::UnknownCommand => "unknown command (SET, START, ABORT, STATUS, CONFIG, SAVE, DEFAULTS)",
             LinkError::UnknownKey => {
-                "unknown key (n dwell_ms settle_ms lat tilt_limit tilt_policy order target_arcsec arw bias_instability rrw gm_sigma gm_tau cal_zero cal_scale)"
+                "unknown key (n dwell_ms settle_ms lat tilt_limit tilt_policy order order+ target_arcsec arw bias_instability rrw gm_sigma gm_tau cal_zero cal_scale)"
             }
             LinkError::MissingValue => "SET needs a key and a value",
-            LinkError::BadValue => "value is not a number of the right kind",
-            LinkError::OutOfRange => "value out of range",
-            // `write_message` goes on with the order's own.
-            LinkError::Order(_) => "order: ",
-            LinkError::NoListToExtend => "SET order+ continues a listed order; set one first",
-        }
-    }
-
-    /// The message with an order's details, through `write_str` alone (no `core::fmt` on the
-    /// MCU).
-    pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
-        match self {
+            LinkError::BadValue(k) => return k.write_refusal(w, false),
+            LinkError::OutOfRange(k) => return k.write_refusal(w, true),
+            LinkError::ExtraWords => "too many words: SET takes a key and one value, the other commands none",
             LinkError::Order(e) => {
-                w.write_str(self.message())?;
-                e.write_message(w)
+                w.write_str("order: ")?;
+                return e.write_message(w);
             }
-            e => w.write_str(e.message()),
-        }
+            LinkError::NoListToExtend => "SET order+ continues a listed order; set one first",
+        })
     }
 }
 
@@ -182,96 +150,59 @@ pub fn apply(cfg: &mut RunConfig, s: Setting) -> Result<(), LinkError> {
     Ok(())
 }
 
-/// A whole number (`[+-]digits`) within `lo..=hi`.
-fn whole<T: TryFrom<i64>>(v: &str, lo: i64, hi: i64) -> Result<T, LinkError> {
-    if v.contains('.') {
-        return Err(LinkError::BadValue);
-    }
-    T::try_from(fixed(v, 0, lo, hi)?).map_err(|_| LinkError::OutOfRange)
+/// A blank between words: ASCII white space and the vertical tab.
+pub fn blank(b: u8) -> bool {
+    b.is_ascii_whitespace() || b == 0x0b
 }
 
-/// A decimal in units of `10^-decimals`, within `lo..=hi` units.
-fn fixed(v: &str, decimals: u32, lo: i64, hi: i64) -> Result<i64, LinkError> {
-    let units = decimal::parse_fixed(v.as_bytes(), decimals).map_err(|e| match e {
-        DecimalError::Syntax => LinkError::BadValue,
-        DecimalError::Overflow => LinkError::OutOfRange,
-    })?;
-    check(units, lo, hi)
-}
-
-fn check<T: PartialOrd>(v: T, lo: T, hi: T) -> Result<T, LinkError> {
-    if v >= lo && v <= hi {
-        Ok(v)
-    } else {
-        Err(LinkError::OutOfRange)
-    }
+/// The first word of `s` and what follows it, both without the blanks around them.
+fn word(s: &str) -> (&str, &str) {
+    let is_blank = |c: char| c.is_ascii() && blank(c as u8);
+    let s = s.trim_start_matches(is_blank);
+    // An ASCII byte is never inside a longer character: the split is on a boundary.
+    let end = s.bytes().position(blank).unwrap_or(s.len());
+    let (w, rest) = s.split_at(end);
+    (w, rest.trim_matches(is_blank))
 }
 
 /// Parses one command line.
 pub fn parse(line: &str) -> Result<Command, LinkError> {
-    let mut words = line.split_ascii_whitespace();
-    let cmd = words.next().ok_or(LinkError::Empty)?;
-    let c = if cmd.eq_ignore_ascii_case("SET") {
-        let key = words.next().ok_or(LinkError::MissingValue)?;
-        let val = words.next().ok_or(LinkError::MissingValue)?;
-        let k = |s: &str| key.eq_ignore_ascii_case(s);
-        let s = if k("n") {
-            Setting::Positions(whole(val, 4, 720)?)
-        } else if k("dwell_ms") {
-            Setting::DwellMs(whole(val, 10, 600_000)?)
-        } else if k("settle_ms") {
-            Setting::SettleMs(whole(val, 0, 60_000)?)
-        } else if k("lat") {
-            Setting::LatitudeUdeg(fixed(val, ANGLE_DECIMALS, -89_000_000, 89_000_000)?)
-        } else if k("tilt_limit") {
-            Setting::TiltLimitUdeg(fixed(val, ANGLE_DECIMALS, 0, 10_000_000)?)
-        } else if k("tilt_policy") {
-            match val {
-                v if v.eq_ignore_ascii_case("refuse") => Setting::TiltRefuse(true),
-                v if v.eq_ignore_ascii_case("warn") => Setting::TiltRefuse(false),
-                _ => return Err(LinkError::BadValue),
-            }
-        } else if k("cal_zero") {
-            const MAX: i64 = Calibration::MAX_ZERO_MICRO_COUNTS;
-            Setting::CalZero(fixed(val, CAL_ZERO_DECIMALS, -MAX, MAX)?)
-        } else if k("cal_scale") {
-            // Not zero: 1e-15 deg/h per count and more, up to 1 deg/h per count either way.
-            const MAX: i64 = Calibration::MAX_FEMTO_DPH_PER_COUNT;
-            match fixed(val, CAL_SCALE_DECIMALS, -MAX, MAX)? {
-                0 => return Err(LinkError::OutOfRange),
-                v => Setting::CalScale(v),
-            }
-        } else if k("target_arcsec") {
-            Setting::TargetUarcsec(fixed(val, TARGET_DECIMALS, 0, 36_000_000_000)?)
-        } else if let Some(&(_, term)) = NOISE_KEYS.iter().find(|(name, _)| k(name)) {
-            Setting::Noise(term, fixed(val, NOISE_DECIMALS, 0, 1_000_000_000_000_000)?)
-        } else if k("order") {
-            Setting::Order(Order::parse(val).map_err(LinkError::Order)?)
-        } else if k("order+") {
-            let mut more = VisitList::EMPTY;
-            more.extend(val).map_err(LinkError::Order)?;
-            Setting::OrderMore(more)
-        } else {
-            return Err(LinkError::UnknownKey);
+    let (cmd, rest) = word(line);
+    let is = |name: &str| cmd.eq_ignore_ascii_case(name);
+    let c = if cmd.is_empty() {
+        return Err(LinkError::Empty);
+    } else if is("SET") {
+        let (key, value) = word(rest);
+        if value.is_empty() {
+            return Err(LinkError::MissingValue);
+        }
+        let key = Key::find(key).ok_or(LinkError::UnknownKey)?;
+        // A list may have blanks after its commas; other values are one word.
+        let value = match key {
+            Key::Order | Key::OrderMore => value,
+            _ => match word(value) {
+                (v, "") => v,
+                _ => return Err(LinkError::ExtraWords),
+            },
         };
-        Command::Set(s)
-    } else if cmd.eq_ignore_ascii_case("START") {
+        Command::Set(key.read(value)?)
+    } else if is("START") {
         Command::Start
-    } else if cmd.eq_ignore_ascii_case("ABORT") {
+    } else if is("ABORT") {
         Command::Abort
-    } else if cmd.eq_ignore_ascii_case("STATUS") {
+    } else if is("STATUS") {
         Command::Status
-    } else if cmd.eq_ignore_ascii_case("CONFIG") {
+    } else if is("CONFIG") {
         Command::Config
-    } else if cmd.eq_ignore_ascii_case("SAVE") {
+    } else if is("SAVE") {
         Command::Save
-    } else if cmd.eq_ignore_ascii_case("DEFAULTS") {
+    } else if is("DEFAULTS") {
         Command::Defaults
     } else {
         return Err(LinkError::UnknownCommand);
     };
-    if words.next().is_some() {
-        return Err(LinkError::BadValue);
+    if !rest.is_empty() && !is("SET") {
+        return Err(LinkError::ExtraWords);
     }
     Ok(c)
 }
@@ -279,6 +210,7 @@ pub fn parse(line: &str) -> Result<Command, LinkError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::link_key::KEYS;
 
     #[test]
     fn commands() {
@@ -306,33 +238,106 @@ mod tests {
         assert_eq!(parse("GO"), Err(LinkError::UnknownCommand));
         assert_eq!(parse("SET n"), Err(LinkError::MissingValue));
         assert_eq!(parse("SET x 1"), Err(LinkError::UnknownKey));
-        assert_eq!(parse("SET n seventy"), Err(LinkError::BadValue));
-        assert_eq!(parse("SET n 3"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET n 70000"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET n -8"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET n 72.0"), Err(LinkError::BadValue));
+        assert_eq!(parse("SET n seventy"), Err(LinkError::BadValue(Key::Positions)));
+        assert_eq!(parse("SET n 3"), Err(LinkError::OutOfRange(Key::Positions)));
+        assert_eq!(parse("SET n 70000"), Err(LinkError::OutOfRange(Key::Positions)));
+        assert_eq!(parse("SET n -8"), Err(LinkError::OutOfRange(Key::Positions)));
+        assert_eq!(parse("SET n 72.0"), Err(LinkError::BadValue(Key::Positions)));
         assert_eq!(parse("SET n +72"), Ok(Command::Set(Setting::Positions(72))));
-        assert_eq!(parse("SET dwell_ms 99999999999999999999"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET settle_ms 1e3"), Err(LinkError::BadValue));
-        assert_eq!(parse("SET lat 91"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET lat 89.0000005"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET lat 1e1"), Err(LinkError::BadValue));
-        assert_eq!(parse("SET lat 4x"), Err(LinkError::BadValue));
-        assert_eq!(parse("SET lat inf"), Err(LinkError::BadValue));
-        assert_eq!(parse("SET lat 99999999999999999999"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET tilt_limit -0.1"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET cal_zero 8388609"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET cal_scale 0"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET cal_scale 0.0000000000000004"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET cal_scale -1.5"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET target_arcsec 36000.1"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET tilt_policy maybe"), Err(LinkError::BadValue));
-        assert_eq!(parse("START now"), Err(LinkError::BadValue));
-        assert!(LinkError::OutOfRange.message().contains("range"));
+        assert_eq!(
+            parse("SET dwell_ms 99999999999999999999"),
+            Err(LinkError::OutOfRange(Key::DwellMs))
+        );
+        assert_eq!(parse("SET settle_ms 1e3"), Err(LinkError::BadValue(Key::SettleMs)));
+        assert_eq!(parse("SET lat 91"), Err(LinkError::OutOfRange(Key::Latitude)));
+        assert_eq!(parse("SET lat 89.0000005"), Err(LinkError::OutOfRange(Key::Latitude)));
+        assert_eq!(parse("SET lat 1e1"), Err(LinkError::BadValue(Key::Latitude)));
+        assert_eq!(parse("SET lat 4x"), Err(LinkError::BadValue(Key::Latitude)));
+        assert_eq!(parse("SET lat inf"), Err(LinkError::BadValue(Key::Latitude)));
+        assert_eq!(
+            parse("SET lat 99999999999999999999"),
+            Err(LinkError::OutOfRange(Key::Latitude))
+        );
+        assert_eq!(parse("SET tilt_limit -0.1"), Err(LinkError::OutOfRange(Key::TiltLimit)));
+        assert_eq!(parse("SET cal_zero 8388609"), Err(LinkError::OutOfRange(Key::CalZero)));
+        assert_eq!(parse("SET cal_scale 0"), Err(LinkError::OutOfRange(Key::CalScale)));
+        assert_eq!(
+            parse("SET cal_scale 0.0000000000000004"),
+            Err(LinkError::OutOfRange(Key::CalScale))
+        );
+        assert_eq!(parse("SET cal_scale -1.5"), Err(LinkError::OutOfRange(Key::CalScale)));
+        assert_eq!(
+            parse("SET target_arcsec 36000.1"),
+            Err(LinkError::OutOfRange(Key::Target))
+        );
+        assert_eq!(
+            parse("SET tilt_policy maybe"),
+            Err(LinkError::BadValue(Key::TiltPolicy))
+        );
+        assert_eq!(parse("START now"), Err(LinkError::ExtraWords));
+        assert_eq!(parse("STATUS now"), Err(LinkError::ExtraWords));
+        assert_eq!(parse("SET n 8 9"), Err(LinkError::ExtraWords));
         assert_eq!(parse("SET order zigzag"), Err(LinkError::Order(OrderError::Unknown)));
         assert_eq!(
             parse("SET order 0,1,two"),
             Err(LinkError::Order(OrderError::BadEntry { at: 2 }))
+        );
+    }
+
+    fn says(line: &str) -> std::string::String {
+        let mut m = std::string::String::new();
+        parse(line).unwrap_err().write_message(&mut m).unwrap();
+        m
+    }
+
+    #[test]
+    fn a_refusal_names_the_key_and_its_range() {
+        assert_eq!(says("SET n 3"), "n: out of range, 4 to 720");
+        assert_eq!(says("set LAT 91"), "lat: out of range, -89 to 89 deg");
+        assert_eq!(says("SET arw -1"), "arw: out of range, 0 to 1000000 deg/sqrt(h)");
+        assert_eq!(says("SET gm_tau 1e3"), "gm_tau: not a plain decimal number");
+        assert_eq!(says("SET dwell_ms 2.5"), "dwell_ms: not a whole number");
+        assert_eq!(says("SET tilt_policy maybe"), "tilt_policy: refuse or warn");
+        assert_eq!(
+            says("SET cal_scale 0"),
+            "cal_scale: out of range, -1 to 1 deg/h per count, not 0"
+        );
+        assert_eq!(
+            says("SET target_arcsec 36000.1"),
+            "target_arcsec: out of range, 0 to 36000"
+        );
+        // Every numeric key: its ends are taken, one unit past either is refused with the range.
+        let text = |units: i64, decimals: u32| {
+            let mut t = std::string::String::new();
+            nf_model::text::write_units_trimmed(&mut t, units, decimals).unwrap();
+            t
+        };
+        for (name, key) in KEYS {
+            let Some(r) = key.range() else { continue };
+            let (lo, hi) = (text(r.lo, r.decimals), text(r.hi, r.decimals));
+            let refusal = std::format!("{name}: out of range, {lo} to {hi}{}", r.unit);
+            for past in [r.lo - 1, r.hi + 1] {
+                assert_eq!(says(&std::format!("SET {name} {}", text(past, r.decimals))), refusal);
+            }
+            for end in [lo, hi] {
+                assert_eq!(
+                    parse(&std::format!("SET {name} {end}")).map(|_| ()),
+                    Ok(()),
+                    "{name} {end}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn words_are_parted_by_any_blank_and_lists_may_have_blanks() {
+        assert_eq!(parse("\x0bSET\x0cn\t72\x0b"), parse("SET n 72"));
+        assert_eq!(parse("\x0c\x0b"), Err(LinkError::Empty));
+        assert_eq!(parse("SET order 0, 2, 1"), parse("SET order 0,2,1"));
+        assert_eq!(parse("SET order+ 3 ,4"), parse("SET order+ 3,4"));
+        assert_eq!(
+            parse("SET order 0 2 1"),
+            Err(LinkError::Order(OrderError::BadEntry { at: 0 }))
         );
     }
 
@@ -365,10 +370,19 @@ mod tests {
             (0.0012, 0.004, 0.3, 0.01, 60.0)
         );
         assert_eq!(cfg.target_arcsec, 18.0);
-        assert_eq!(parse("SET rrw -1"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET arw nan"), Err(LinkError::BadValue));
-        assert_eq!(parse("SET arw 1000000.000000001"), Err(LinkError::OutOfRange));
-        assert_eq!(parse("SET target_arcsec x"), Err(LinkError::BadValue));
+        assert_eq!(
+            parse("SET rrw -1"),
+            Err(LinkError::OutOfRange(Key::Noise(NoiseTerm::Rrw)))
+        );
+        assert_eq!(
+            parse("SET arw nan"),
+            Err(LinkError::BadValue(Key::Noise(NoiseTerm::Arw)))
+        );
+        assert_eq!(
+            parse("SET arw 1000000.000000001"),
+            Err(LinkError::OutOfRange(Key::Noise(NoiseTerm::Arw)))
+        );
+        assert_eq!(parse("SET target_arcsec x"), Err(LinkError::BadValue(Key::Target)));
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! The host link's session: bytes in, lines assembled, commands handled, replies out. The
 //! firmware feeds it the bytes of its USART; the host tests feed it scenario files.
 
-use crate::link::{self, Command, LinkError, Setting};
+use crate::link::{self, Command, Key, LinkError, NoiseTerm, Setting};
 use crate::record::MAX_LINE;
 use crate::run::{RunConfig, RunReport, TiltPolicy};
 use core::fmt::Write;
@@ -54,8 +54,9 @@ impl LineAssembler {
                 Assembled::Line(&self.buf)
             });
         }
-        // Leading blanks are not kept: a line of blanks is an empty line, with no reply.
-        if self.discarding || (self.buf.is_empty() && (byte == b' ' || byte == b'\t')) {
+        // Leading blanks (tabs, form feeds too) are not kept: a line of them is an empty line,
+        // with no reply.
+        if self.discarding || (self.buf.is_empty() && link::blank(byte)) {
             return None;
         }
         // A byte outside ASCII still counts toward the length; ASCII needs no UTF-8 decoder.
@@ -247,7 +248,8 @@ impl Session {
         one(l)
     }
 
-    /// Three lines: the run's settings, the gyro's noise model and its calibration.
+    /// Three lines: the run's settings, the gyro's noise model and its calibration, as `SET`'s
+    /// keys and values: each value reads back to the same setting.
     pub fn config(&self) -> Reply {
         let c = &self.cfg;
         let mut a = ReplyLine::new();
@@ -260,9 +262,9 @@ impl Session {
         let _ = a.push_str(" settle_ms ");
         let _ = text::write_u64(&mut a, c.settle_ms as u64);
         let _ = a.push_str(" lat ");
-        let _ = text::write_f32(&mut a, c.latitude_deg, 5);
+        let _ = Key::Latitude.write_f32(&mut a, c.latitude_deg);
         let _ = a.push_str(" tilt_limit ");
-        let _ = text::write_f32(&mut a, c.tilt_limit_deg, 4);
+        let _ = Key::TiltLimit.write_f32(&mut a, c.tilt_limit_deg);
         let _ = a.push_str(" tilt_policy ");
         let _ = a.push_str(if c.tilt_policy == TiltPolicy::Refuse {
             "refuse"
@@ -270,28 +272,29 @@ impl Session {
             "warn"
         });
         let _ = a.push_str(" target_arcsec ");
-        let _ = text::write_f32(&mut a, c.target_arcsec, 2);
+        let _ = Key::Target.write_f32(&mut a, c.target_arcsec);
         let mut b = ReplyLine::new();
         let _ = b.push_str("CONFIG noise");
         let m = c.noise;
-        for (key, v, decimals) in [
-            (" arw ", m.arw_deg_rth, 7),
-            (" bias_instability ", m.bias_instability_dph, 6),
-            (" rrw ", m.rrw_dph_rth, 6),
-            (" gm_sigma ", m.gm_sigma_dph, 6),
-            (" gm_tau ", m.gm_tau_s, 2),
+        for (term, v) in [
+            (NoiseTerm::Arw, m.arw_deg_rth),
+            (NoiseTerm::BiasInstability, m.bias_instability_dph),
+            (NoiseTerm::Rrw, m.rrw_dph_rth),
+            (NoiseTerm::GmSigma, m.gm_sigma_dph),
+            (NoiseTerm::GmTau, m.gm_tau_s),
         ] {
-            let _ = b.push_str(key);
-            let _ = text::write_f32(&mut b, v, decimals);
+            let key = Key::Noise(term);
+            let _ = b.push_str(" ");
+            let _ = b.push_str(key.name());
+            let _ = b.push_str(" ");
+            let _ = key.write_f32(&mut b, v);
         }
         let mut c = ReplyLine::new();
-        let _ = c.push_str("CONFIG cal zero_counts ");
+        let _ = c.push_str("CONFIG cal cal_zero ");
         let cal = self.cfg.calibration;
-        let zero = text::round_units(cal.zero_micro_counts, Calibration::ZERO_DECIMALS, 1);
-        let _ = text::write_units(&mut c, zero, 1);
-        let _ = c.push_str(" dph_per_count ");
-        let scale = text::round_units(cal.femto_dph_per_count, Calibration::SCALE_DECIMALS, 12);
-        let _ = text::write_units(&mut c, scale, 12);
+        let _ = text::write_units_trimmed(&mut c, cal.zero_micro_counts, Calibration::ZERO_DECIMALS);
+        let _ = c.push_str(" cal_scale ");
+        let _ = text::write_units_trimmed(&mut c, cal.femto_dph_per_count, Calibration::SCALE_DECIMALS);
         let mut r = Reply::new();
         let _ = r.push(a);
         let _ = r.push(b);
@@ -373,7 +376,11 @@ mod tests {
     fn model(bytes: &[u8]) -> std::vec::Vec<std::string::String> {
         bytes
             .split(|&b| b == b'\n' || b == b'\r')
-            .map(|l| &l[l.iter().take_while(|&&b| b == b' ' || b == b'\t').count()..])
+            .map(|l| {
+                &l[l.iter()
+                    .take_while(|&&b| matches!(b, b' ' | b'\t' | 0x0b | 0x0c))
+                    .count()..]
+            })
             .filter(|l| !l.is_empty())
             .map(|l| match l {
                 l if l.len() > MAX_COMMAND => "<too long>".into(),
@@ -385,8 +392,8 @@ mod tests {
 
     #[test]
     fn random_byte_streams_are_cut_as_the_model_cuts_them() {
-        // Streams of lines of 0 to 120 bytes from an alphabet with both terminators and two
-        // non-ASCII bytes.
+        // Streams of lines of 0 to 120 bytes from an alphabet with both terminators, two
+        // non-ASCII bytes and a form feed.
         let mut state = 0x2545_f491_4f6c_dd1du64;
         let mut next = |m: u64| {
             state ^= state << 13;
@@ -394,14 +401,14 @@ mod tests {
             state ^= state << 17;
             state % m
         };
-        let alphabet = [b'a', b'Z', b' ', b'7', b'\n', b'\r', 0xff, 0xc2];
+        let alphabet = [b'a', b'Z', b' ', b'7', b'\n', b'\r', 0xff, 0xc2, 0x0c];
         let mut a = LineAssembler::default();
         for _ in 0..2000 {
             let mut bytes = std::vec::Vec::new();
             for _ in 0..1 + next(4) {
                 let len = next(121) as usize;
                 // Mostly ASCII letters, so that long lines occur.
-                bytes.extend((0..len).map(|_| alphabet[if next(10) == 0 { next(8) } else { next(4) } as usize]));
+                bytes.extend((0..len).map(|_| alphabet[if next(10) == 0 { next(9) } else { next(4) } as usize]));
                 bytes.push(b'\n');
             }
             assert_eq!(feed(&mut a, &bytes), model(&bytes), "{bytes:?}");
@@ -411,7 +418,7 @@ mod tests {
     #[test]
     fn a_line_of_blanks_is_answered_as_an_empty_line_is_not_at_all() {
         let (mut session, mut a) = (Session::default(), LineAssembler::default());
-        for line in [&b"   \t\r\n"[..], b"\r\n", b" STATUS \n"] {
+        for line in [&b"   \t\r\n"[..], b"\x0c\x0b \n", b"\r\n", b" STATUS \n"] {
             let mut replies = std::vec::Vec::new();
             for &b in line {
                 if let Some(event) = a.push(b) {
@@ -449,5 +456,61 @@ mod tests {
             session.status()[0].as_str(),
             "STATUS idle last: 8 dwells missed_samples 12 ok"
         );
+    }
+
+    /// Random settings within the link's ranges, set, shown by CONFIG, and CONFIG's pairs
+    /// sent back as `SET` lines to the firmware's defaults: the same configuration.
+    #[test]
+    fn config_shows_every_value_as_set_reads_it_back() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |m: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % m
+        };
+        let send = |session: &mut Session, line: &str| {
+            let (_, reply) = session.handle(Assembled::Line(line));
+            reply
+                .iter()
+                .map(|l| std::string::String::from(l.as_str()))
+                .collect::<std::vec::Vec<_>>()
+        };
+        for _ in 0..500 {
+            let mut set = Session::default();
+            for (name, key) in crate::link_key::KEYS {
+                let Some(r) = key.range() else { continue };
+                // Short and long decimals, and the range's ends.
+                let span = (r.hi - r.lo) as u64 + 1;
+                let v = match next(4) {
+                    0 => r.lo,
+                    1 => r.hi,
+                    2 => r.lo + (next(span) / crate::decimal::pow10(next(r.decimals as u64 + 1) as u32)) as i64,
+                    _ => r.lo + next(span) as i64,
+                };
+                let mut line = std::format!("SET {name} ");
+                text::write_units(&mut line, v, r.decimals).unwrap();
+                // A `cal_scale` of 0 and a `gm_sigma` without `gm_tau` are refused; both fine here.
+                let _ = send(&mut set, &line);
+            }
+            let mut back = Session::default();
+            back.cfg.order = set.cfg.order;
+            for l in send(&mut set, "CONFIG") {
+                // "CONFIG n ...", "CONFIG noise arw ...", "CONFIG cal cal_zero ...".
+                let pairs = l.strip_prefix("CONFIG ").unwrap();
+                let pairs = pairs
+                    .strip_prefix("noise ")
+                    .or(pairs.strip_prefix("cal "))
+                    .unwrap_or(pairs);
+                let words: std::vec::Vec<&str> = pairs.split(' ').collect();
+                for pair in words.chunks(2) {
+                    if pair[0] != "order" {
+                        let line = std::format!("SET {} {}", pair[0], pair[1]);
+                        assert_eq!(send(&mut back, &line), ["OK"], "{line}");
+                    }
+                }
+            }
+            assert_eq!(back.cfg, set.cfg);
+        }
     }
 }

@@ -106,9 +106,10 @@ impl OrderError {
                 }
                 w.write_str(" and not a list of position numbers")
             }
+            // Entries are counted from 1 for a person; positions from 0, as everywhere.
             OrderError::BadEntry { at } => {
                 w.write_str("entry ")?;
-                num(w, at)?;
+                num(w, at.saturating_add(1))?;
                 w.write_str(" of the list is not a position number")
             }
             OrderError::TooLong => {
@@ -118,7 +119,7 @@ impl OrderError {
             }
             OrderError::OutOfRange { at, position, n } => {
                 w.write_str("entry ")?;
-                num(w, at)?;
+                num(w, at.saturating_add(1))?;
                 w.write_str(" of the list, position ")?;
                 num(w, position)?;
                 w.write_str(", is not below n = ")?;
@@ -476,7 +477,7 @@ mod tests {
         );
         assert_eq!(
             says(OrderError::BadEntry { at: 2 }),
-            "entry 2 of the list is not a position number"
+            "entry 3 of the list is not a position number"
         );
         assert_eq!(says(OrderError::TooLong), "a listed order holds at most 256 visits");
         assert_eq!(
@@ -485,7 +486,7 @@ mod tests {
                 position: 400,
                 n: 72
             }),
-            "entry 3 of the list, position 400, is not below n = 72"
+            "entry 4 of the list, position 400, is not below n = 72"
         );
         assert_eq!(says(OrderError::Empty), "the listed order is empty");
         assert_eq!(

@@ -66,6 +66,16 @@ pub fn write_units<W: Write>(w: &mut W, units: i64, decimals: u32) -> Result {
     write_unsigned_units(w, units.unsigned_abs(), decimals)
 }
 
+/// `units * 10^-decimals` without trailing zeros after the point:
+/// `write_units_trimmed(w, -1_234_500, 3)` writes `-1234.5`, and `(w, 7_000, 3)` writes `7`.
+pub fn write_units_trimmed<W: Write>(w: &mut W, mut units: i64, mut decimals: u32) -> Result {
+    while decimals > 0 && units % 10 == 0 {
+        units /= 10;
+        decimals -= 1;
+    }
+    write_units(w, units, decimals)
+}
+
 /// A count of `10^-from` units as a count of `10^-to` units (`to <= from <= 19`), rounded.
 pub fn round_units(units: i64, from: u32, to: u32) -> i64 {
     let div = pow10(from.saturating_sub(to)) as i128;
@@ -185,6 +195,11 @@ mod tests {
         assert_eq!(text(|s| write_units(s, 0, 2)), "0.00");
         assert_eq!(text(|s| write_units(s, i64::MIN, 18)), "-9.223372036854775808");
         assert_eq!(text(|s| write_units(s, 5_960_464_478, 15)), "0.000005960464478");
+        assert_eq!(text(|s| write_units_trimmed(s, -1_234_500, 3)), "-1234.5");
+        assert_eq!(text(|s| write_units_trimmed(s, 7_000, 3)), "7");
+        assert_eq!(text(|s| write_units_trimmed(s, 0, 9)), "0");
+        assert_eq!(text(|s| write_units_trimmed(s, 5_960_000_000, 15)), "0.00000596");
+        assert_eq!(text(|s| write_units_trimmed(s, 120, 0)), "120");
         assert_eq!(round_units(5_960_464_478, 15, 12), 5_960_464);
         assert_eq!(round_units(-1_200_050_000, 6, 1), -12_001);
         assert_eq!(round_units(-1_200_049_999, 6, 1), -12_000);
