@@ -26,6 +26,7 @@ pub mod settings;
 pub mod settings_store;
 pub mod step_train;
 pub mod stepper;
+pub mod white_pool;
 
 #[cfg(test)]
 extern crate std;

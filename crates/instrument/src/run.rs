@@ -12,6 +12,7 @@ use crate::encoder_angle::EncoderAngle;
 use crate::inclinometer::{InclError, Inclinometer};
 use crate::record::{self, HEADER, Record};
 use crate::stepper::{Motor, MotorError};
+use crate::white_pool::WhitePool;
 use core::fmt::Write as _;
 use embedded_hal_async::spi::SpiBus;
 use embedded_io_async::{Read, Write};
@@ -95,7 +96,7 @@ pub struct RunConfig {
     /// Remove the vertical Earth rate of each position's inclinometer X reading in the fit.
     pub tilt_correction: bool,
     /// The gyro's noise model for the running azimuth; with no angle random walk the white
-    /// part of each dwell mean comes from its samples' spread.
+    /// part of each dwell mean comes from the samples' spread, pooled over the dwells so far.
     pub noise: NoiseTerms,
     /// End the run once the running sigma under the noise model is at most this, arcsec
     /// (0: visit every position).
@@ -466,20 +467,22 @@ where
     }
 
     /// Adds a dwell to the running azimuth under the noise model and logs it.
-    fn under_noise(&self, running: &mut RunningGls<f32>, rec: &Record) -> Result<Running<f32>, RunError> {
+    fn under_noise(
+        &self,
+        running: &mut RunningGls<f32>,
+        pool: &mut WhitePool,
+        rec: &Record,
+    ) -> Result<Running<f32>, RunError> {
         let cfg = self.cfg;
         let mut rate = rec.rate_dph;
         if cfg.tilt_correction {
             rate -= vertical_earth_rate_dph(cfg.latitude_deg, rec.tilt_x_deg);
         }
-        // No white level given: the dwell's own samples show it, and a sample carries at least
-        // the quantisation of one count (the spread of samples that are all one count is 0).
+        // No white level given: the samples' spread shows it, pooled over the dwells so far;
+        // a sample carries at least the quantisation of one count.
         let white = (cfg.noise.arw_deg_rth == 0.0).then(|| {
             let count = cfg.calibration.dph_per_count();
-            let (var, floor) = (rec.rate_sd_dph * rec.rate_sd_dph, count * count / 12.0);
-            // NaN (one sample) stays NaN: the dwell cannot be weighed.
-            let var = if var < floor { floor } else { var };
-            var / rec.samples.max(1) as f32
+            pool.add(rec.rate_sd_dph, rec.samples, count * count / 12.0)
         });
         running.add(rec.encoder.deg(), rec.t_us, rate, white).map_err(|_| {
             self.err(Fault::Fit(FitError::NonFinite {
@@ -614,6 +617,7 @@ where
             u.visited, cfg.positions, u.least, u.most
         );
     }
+    let mut pool = WhitePool::default();
     report.result = async {
         report.levelling = Some(ctx.levelling().await?);
         ctx.header().await;
@@ -637,7 +641,7 @@ where
                 weight: 1.0,
             };
             fit.add(&obs).map_err(|e| ctx.err(Fault::Fit(e)))?;
-            let r = ctx.under_noise(&mut running, &rec)?;
+            let r = ctx.under_noise(&mut running, &mut pool, &rec)?;
             report.under_noise = Some(r);
             let sigma_arcsec = r.sigma_psi_deg * 3600.0;
             let target = cfg.target_arcsec > 0.0 && r.dwells >= 4 && sigma_arcsec <= cfg.target_arcsec;
