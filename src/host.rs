@@ -65,7 +65,7 @@ struct Args {
           value_parser = real(0.0, 10.0))]
     tilt: f64,
     /// Largest shaft tilt the levelling check accepts (as the host link's `SET tilt_limit`), deg.
-    #[arg(long, default_value_t = RunConfig::DEFAULT.tilt_limit_deg as f64, allow_hyphen_values = true,
+    #[arg(long, default_value_t = decimal(RunConfig::DEFAULT.tilt_limit_deg), allow_hyphen_values = true,
           value_parser = real(0.0, 10.0))]
     tilt_limit: f64,
     /// A tilt beyond the limit ends the run (refuse) or is logged and the run goes on (warn),
@@ -78,6 +78,12 @@ struct Args {
     /// No run log on stderr.
     #[arg(long)]
     quiet: bool,
+}
+
+/// An `f32` setting as the shortest decimal that is that `f32` (the help says `0.05`, not
+/// `0.05000000074505806`).
+fn decimal(x: f32) -> f64 {
+    x.to_string().parse().unwrap_or(f64::from(x))
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
