@@ -315,6 +315,9 @@ fn shocks_are_heavy_tails_not_flicker() {
             let tails = d.findings.iter().find(|f| f.effect == Kind::HeavyTails);
             let struck = tails.and_then(|f| f.parameters.iter().find(|p| p.name == "struck_dwells"));
             assert!(struck.is_some_and(|p| p.value >= 1.0), "seed {seed}: {:?}", d.findings);
+            // The same dwells are marked for the report's plot.
+            let marked = d.points.iter().filter(|p| p.struck).count();
+            assert_eq!(Some(marked as f64), struck.map(|p| p.value), "seed {seed}");
             coloured += colours.iter().any(|&k| named(&d, k)) as u32;
         }
     }

@@ -215,11 +215,12 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
         v
     };
+    let struck: Vec<&Point> = d.points.iter().filter(|p| p.struck).collect();
     let panel = |title: &str, x_label: &str, x: fn(&Point) -> f64| Panel {
         title: title.into(),
         x_label: x_label.into(),
         y_label: "residual (deg/h)".into(),
-        series: vec![
+        series: [
             Series {
                 name: "before: Eq. 7 by least squares".into(),
                 points: pick(x, |p| p.before),
@@ -235,7 +236,15 @@ fn diagnose_panels(d: &Diagnosis) -> Vec<Panel> {
                 points: unbroken_in_time(&d.points, x),
                 style: Style::Line,
             },
-        ],
+        ]
+        .into_iter()
+        // Over the dwells' `after` dots, which show round them as rings.
+        .chain((!struck.is_empty()).then(|| Series {
+            name: "after, read as struck by a shock (weighed down)".into(),
+            points: struck.iter().map(|p| (x(p), p.after)).collect(),
+            style: Style::Points,
+        }))
+        .collect(),
         log_x: false,
         log_y: false,
     };
@@ -466,6 +475,7 @@ mod tests {
                 before: 0.0,
                 after: 0.0,
                 fitted: i as f64,
+                struck: false,
             })
             .collect()
     }

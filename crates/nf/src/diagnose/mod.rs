@@ -89,6 +89,8 @@ pub struct Point {
     /// The named effects' fitted contribution (tilt included) less its least-squares part in
     /// Eq. 7's columns, as the residuals `before` hold it, deg/h.
     pub fitted: f64,
+    /// Read as struck by a shock where the final is fitted through shocks (weighed down).
+    pub struck: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -218,7 +220,8 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         noise_findings(&d, &sel.model, &noise, shocks.as_ref(), (tails, rate_resid), opt)?;
     findings.extend(sel.findings.iter().cloned());
     findings.extend(unexplained_finding(&d, &sel, &noise, opt.alpha * UNEXPLAINED_SHARE));
-    let points = residual_points(&d, &sel, &tilt_fitted);
+    let struck = shocks.as_ref().map_or(&[][..], |s| &s.through.shocks.struck[..]);
+    let points = residual_points(&d, &sel, &tilt_fitted, struck);
     Ok(Diagnosis {
         alpha: opt.alpha,
         notes: tilt_warning
@@ -332,8 +335,8 @@ fn unexplained_finding(d: &Data, sel: &select::Selection, noise: &noise::Noise, 
 /// panels are, so that each is centred and `before = after + fitted`: `before` Eq. 7's
 /// residuals on the raw rates, `fitted` the findings as the selection fitted them (tilt
 /// included) with their share of C, A cos and B sin taken out (a jump's step about its mean),
-/// `after` the rest.
-fn residual_points(d: &Data, sel: &select::Selection, tilt_fitted: &[f64]) -> Vec<Point> {
+/// `after` the rest; `struck` the dwells the final read as struck by shocks.
+fn residual_points(d: &Data, sel: &select::Selection, tilt_fitted: &[f64], struck: &[usize]) -> Vec<Point> {
     let plain = |y: Vec<f64>| {
         let m = Model::new(d.base_cols(), y, &Whitener::identity());
         m.fit().map_or_else(|| m.y.clone(), |f| m.raw_residuals(&f))
@@ -354,6 +357,7 @@ fn residual_points(d: &Data, sel: &select::Selection, tilt_fitted: &[f64]) -> Ve
             before: before[i],
             after: before[i] - fitted[i],
             fitted: fitted[i],
+            struck: struck.contains(&i),
         })
         .collect()
 }
