@@ -16,6 +16,7 @@ use crate::white_pool::WhitePool;
 use core::fmt::Write as _;
 use embedded_hal_async::spi::SpiBus;
 use embedded_io_async::{Read, Write};
+use nf_model::angle::wrap_360;
 use nf_model::dwell::{Calibration, DwellAccumulator};
 use nf_model::fit::{AzimuthFit, FitConfig, FitError, FitResult, Obs, vertical_earth_rate_dph};
 use nf_model::level::{TiltReading, fit_tilt};
@@ -24,6 +25,7 @@ use nf_model::noise_terms::NoiseTerms;
 use nf_model::order::{Order, OrderError};
 use nf_model::running::{Running, RunningGls};
 use nf_model::text;
+use nf_model::tilt_bias::first_order_error_deg;
 use nf_model::uncertainty::{self, EARTH_RATE_RATIOS, RESOLVED_SIGMA_DEG};
 
 /// A source of gyro ADC samples (the ADS1256 driver, or the firmware's sample channel).
@@ -545,6 +547,30 @@ fn summary(r: &FitResult<f32>) -> Azimuth {
     }
 }
 
+/// Removes from both azimuths the error the per-dwell first-order tilt correction leaves on
+/// the levelled tilt (`nf_model::tilt_bias`: of order `eta^2 / 4`, 63" at 2 deg), at the
+/// positions visited.
+fn second_order_tilt(cfg: &RunConfig, lev: &Levelling, report: &mut RunReport) {
+    let n = cfg.positions;
+    let gammas = (0..report.positions).map(|k| cfg.order.position(n, k) as f32 * 360.0 / n as f32);
+    let tilt = (lev.tilt_deg, lev.tilt_dir_deg);
+    let error = |psi: f32| first_order_error_deg(cfg.latitude_deg, psi, tilt, gammas.clone()).ok();
+    if let Some(a) = report.azimuth.as_mut()
+        && let Some(e) = error(a.psi_deg)
+    {
+        a.psi_deg = wrap_360(a.psi_deg - e);
+        info!(
+            "tilt: the first order's error of the tilt squared taken off: {} arcsec",
+            e * 3600.0
+        );
+    }
+    if let Some(r) = report.under_noise.as_mut()
+        && let Some(e) = error(r.psi_deg)
+    {
+        r.psi_deg = wrap_360(r.psi_deg - e);
+    }
+}
+
 /// Runs one north finding. The recording goes to `sink` line by line as it is measured.
 pub async fn run<M, ENC, G, U, T, C, S>(
     hw: &mut Instrument<M, ENC, G, U, T, C>,
@@ -667,6 +693,9 @@ where
             })
         }
         Err(_) => {}
+    }
+    if let (true, Some(lev)) = (cfg.tilt_correction, report.levelling) {
+        second_order_tilt(cfg, &lev, &mut report);
     }
     report.resolved = report.under_noise.is_some_and(|r| resolved(&r, cfg.latitude_deg));
     if report.under_noise.is_some() && !report.resolved {

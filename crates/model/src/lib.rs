@@ -22,6 +22,7 @@ pub mod paper;
 pub mod rng;
 pub mod running;
 pub mod text;
+pub mod tilt_bias;
 pub mod uncertainty;
 
 pub use num_traits::Float;
