@@ -3,6 +3,7 @@
 //! the binary, so that no system fonts are needed; the PNG is compressed.
 
 mod axis;
+mod beside;
 mod draw;
 mod legend;
 

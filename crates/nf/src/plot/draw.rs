@@ -2,7 +2,8 @@
 //! wrapped), axes from [`Axis`], the series, and a legend.
 
 use super::axis::Axis;
-use super::legend::{self, LegendBox};
+use super::beside;
+use super::legend::{self, LegendBox, Spot};
 use super::{Panel, Series, Style};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -137,7 +138,7 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
         width(&rest, s, z)
     });
     let y_size = fit_size(&y_label, h.saturating_sub(50), 15.0, 9.0, |s, z| width(&rest, s, z));
-    // The plot's size within the margins and label areas below.
+    // The plot's size within the margins and label areas below (and a legend beside it).
     let (pw, ph) = (w.saturating_sub(26 + y_area), h.saturating_sub(54));
     let names: Vec<String> = p
         .series
@@ -148,16 +149,21 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
         })
         .collect();
     let legend = legend_style(&rest, &names, pw);
-    let (y, corner) = match legend {
+    let (y, spot) = match legend {
         Some((_, b)) => {
             let at = legend::place(p, (&x, &y), (f64::from(pw), f64::from(ph)), b);
-            (at.y, Some(at.corner))
+            (at.y, Some(at.spot))
         }
         None => (y, None),
     };
+    let beside = match (legend, spot) {
+        (Some((_, b)), Some(Spot::Beside)) => (b.w + legend::BESIDE_GAP).ceil() as u32,
+        _ => 0,
+    };
+    let pw = pw.saturating_sub(beside);
 
     let mut chart = ChartBuilder::on(&rest)
-        .margin_right(20)
+        .margin_right(20 + beside)
         .margin_left(6)
         .margin_bottom(6)
         .margin_top(4)
@@ -186,21 +192,39 @@ pub(super) fn panel<DB: DrawingBackend>(area: &Area<DB>, p: &Panel, y_area: u32)
     // where they coincide (residuals before and after a finding that changes few, a model
     // equal to another) each shows round the next.
     let mut colour = 0;
+    let mut entries = Vec::new();
     for (k, (s, name)) in p.series.iter().zip(&names).enumerate() {
         colour += usize::from(s.style != Style::Spread);
         let c = COLORS[(colour + COLORS.len() - 1) % COLORS.len()];
         let later = p.series[k + 1..].iter().filter(|l| l.style == s.style).count();
         draw_series(&mut chart, s, name, (c, later.min(2) as u32), (&x, &y))?;
+        if !name.is_empty() {
+            entries.push(beside::Entry {
+                name: name.clone(),
+                style: s.style,
+                colour: c,
+            });
+        }
     }
-    if let (Some((size, _)), Some(corner)) = (legend, corner) {
-        chart
+    match (legend, spot) {
+        (Some((size, _)), Some(Spot::Corner(corner))) => chart
             .configure_series_labels()
             .position(corner.position())
             .background_style(WHITE.mix(0.85))
             .border_style(GRID)
             .label_font((FONT, size))
             .draw()
-            .map_err(failed)?;
+            .map_err(failed)?,
+        // The plot's top right corner in `rest` is at (6 + y_area + pw, 4).
+        (Some((size, b)), Some(Spot::Beside)) => beside::draw(
+            &rest,
+            &entries,
+            (FONT, size),
+            ((6 + y_area + pw) as i32 + legend::BESIDE_GAP as i32, 4),
+            (b.w.round() as i32, b.h.round() as i32),
+            GRID,
+        )?,
+        _ => {}
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! Where a panel's legend goes: the first corner of the plot that no point, bar or line
 //! reaches; where every corner holds some, above the data in room made for it at the top
-//! of the y axis; and only where that room would squeeze the data, over what it hides least.
+//! of the y axis; where that room would squeeze the data, beside the plot, which is made
+//! narrower for it; and only where that would squeeze it too, over what it hides least.
 
 use super::axis::Axis;
 use super::{Panel, Style};
@@ -33,12 +34,24 @@ impl Corner {
     }
 }
 
+/// Where the legend goes: in a corner of the plot, or beside it on the right.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Spot {
+    Corner(Corner),
+    Beside,
+}
+
 /// Where the legend goes and the y axis that leaves it room.
 #[derive(Debug, Clone)]
 pub(super) struct Placement {
-    pub corner: Corner,
+    pub spot: Spot,
     pub y: Axis,
 }
+
+/// The gap between the plot and a legend beside it, px.
+pub(super) const BESIDE_GAP: f64 = 10.0;
+/// The widest share of the plot a legend beside it may take from it.
+const MOST_BESIDE: f64 = 0.4;
 
 /// Plotters' gap between the box and the plot's edge, px.
 const INSET: f64 = 5.0;
@@ -64,15 +77,19 @@ const CORNERS: [Corner; 4] = [
 
 /// Where the legend `b` goes in a plot of `pw` by `ph` pixels over the axes `x` and `y`: the
 /// first corner nothing drawn reaches; else the top corner that needs the least room made
-/// above the data within its width, where that is at most [`MOST_GROWTH`]; else the corner
-/// that covers least (a dot or a bar counting as much as a whole line: covering data hides
-/// more than covering a model).
+/// above the data within its width, where that is at most [`MOST_GROWTH`]; else beside the
+/// plot, where it takes at most [`MOST_BESIDE`] of its width; else the corner that covers
+/// least (a dot or a bar counting as much as a whole line: covering data hides more than
+/// covering a model).
 pub(super) fn place(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: LegendBox) -> Placement {
     let drawn = drawn(p, (x, y), (pw, ph));
     let boxed = |c: Corner| boxed(c, b, (pw, ph));
     let inside = |c: Corner, q: &Mark| q.inside(boxed(c));
     if let Some(corner) = CORNERS.into_iter().find(|&c| !drawn.iter().any(|q| inside(c, q))) {
-        return Placement { corner, y: y.clone() };
+        return Placement {
+            spot: Spot::Corner(corner),
+            y: y.clone(),
+        };
     }
     // The growth of the axis that brings everything under the box below its bottom edge.
     let growth = |c: Corner| {
@@ -91,8 +108,14 @@ pub(super) fn place(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: 
         .min_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((corner, g)) = top.filter(|(_, g)| *g <= MOST_GROWTH) {
         return Placement {
-            corner,
+            spot: Spot::Corner(corner),
             y: y.with_room_above(1.0 - 1.0 / g.max(1.0)),
+        };
+    }
+    if b.w + BESIDE_GAP <= MOST_BESIDE * pw {
+        return Placement {
+            spot: Spot::Beside,
+            y: y.clone(),
         };
     }
     let cover = |c: Corner| drawn.iter().filter(|q| inside(c, q)).map(|q| q.weight).sum::<f64>();
@@ -100,7 +123,10 @@ pub(super) fn place(p: &Panel, (x, y): (&Axis, &Axis), (pw, ph): (f64, f64), b: 
         .into_iter()
         .min_by(|&a, &b| cover(a).total_cmp(&cover(b)))
         .unwrap_or(CORNERS[0]);
-    Placement { corner, y: y.clone() }
+    Placement {
+        spot: Spot::Corner(corner),
+        y: y.clone(),
+    }
 }
 
 /// The box at corner `c`, with plotters' inset and a clearance: `x0, x1, y0, y1`, pixels, y
@@ -214,7 +240,9 @@ mod tests {
         );
         let at = place(p, (&x, &y), PLOT, BOX);
         // Wherever it went, nothing drawn is under it.
-        assert!(!reaches(p, (&x, &at.y), PLOT, BOX, at.corner), "{:?}", at.corner);
+        if let Spot::Corner(c) = at.spot {
+            assert!(!reaches(p, (&x, &at.y), PLOT, BOX, c), "{c:?}");
+        }
         at
     }
 
@@ -222,10 +250,10 @@ mod tests {
     fn the_legend_takes_the_first_free_corner() {
         // A falling line leaves the upper right and lower left free.
         let falling = panel(vec![series(vec![(0.0, 10.0), (10.0, 0.0)], Style::Line)]);
-        assert_eq!(placed(&falling).corner, CORNERS[1]);
+        assert_eq!(placed(&falling).spot, Spot::Corner(CORNERS[1]));
         // A rising one the upper left.
         let rising = panel(vec![series(vec![(0.0, 0.0), (10.0, 10.0)], Style::Line)]);
-        assert_eq!(placed(&rising).corner, CORNERS[0]);
+        assert_eq!(placed(&rising).spot, Spot::Corner(CORNERS[0]));
         assert_eq!(placed(&rising).y.range(), placed(&falling).y.range(), "no room made");
     }
 
@@ -254,7 +282,7 @@ mod tests {
             series(vec![(0.5, 0.2), (0.5, 0.8)], Style::Bars),
         ]);
         let at = placed(&p);
-        assert_eq!(at.corner, CORNERS[0]);
+        assert_eq!(at.spot, Spot::Corner(CORNERS[0]));
         let y = Axis::fit([0.0, 1.0], false, 0.05);
         assert!(at.y.range().end > y.range().end, "{:?} {:?}", at.y, y);
         assert_eq!(at.y.range().start, y.range().start);
@@ -275,7 +303,7 @@ mod tests {
             Style::Points,
         )]);
         let at = placed(&p);
-        assert_eq!(at.corner, CORNERS[0]);
+        assert_eq!(at.spot, Spot::Corner(CORNERS[0]));
         let right = {
             let mut q = p.clone();
             q.series[0].points = vec![(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)];
@@ -285,7 +313,7 @@ mod tests {
     }
 
     #[test]
-    fn a_legend_too_tall_for_its_room_takes_the_corner_it_covers_least() {
+    fn a_legend_too_tall_for_its_room_goes_beside_the_plot_or_where_it_covers_least() {
         // A box of two thirds of the plot: making room would squeeze the data to a third.
         // The dots sit in the upper corners and the lower left; a line's end alone in the
         // lower right.
@@ -297,7 +325,12 @@ mod tests {
         let y = Axis::fit([0.0, 1.0], false, 0.05);
         let tall = LegendBox { w: 120.0, h: 130.0 };
         let at = place(&p, (&x, &y), PLOT, tall);
-        assert_eq!(at.corner, CORNERS[3]);
+        assert_eq!(at.spot, Spot::Beside);
+        assert_eq!(at.y.range(), y.range(), "no room made");
+        // Too wide to go beside (it would take more than 0.4 of the plot's width).
+        let wide = LegendBox { w: 240.0, h: 130.0 };
+        let at = place(&p, (&x, &y), PLOT, wide);
+        assert_eq!(at.spot, Spot::Corner(CORNERS[3]));
         assert_eq!(at.y.range(), y.range(), "no room made");
     }
 }

@@ -272,3 +272,45 @@ fn dots_and_lines_drawn_before_others_are_larger_so_that_coinciding_ones_show() 
     assert_eq!(svg.matches(r#"stroke-width="3""#).count(), 1, "{svg}");
     assert_eq!(svg.matches(r#"stroke-width="2""#).count(), 3, "{svg}");
 }
+
+#[test]
+fn a_legend_with_no_room_inside_goes_beside_the_plot() {
+    // Seven lines across the whole plot, as an Allan plot's terms: every corner is reached,
+    // and room above them for seven entries would squeeze the data to a third.
+    let lines = (0..7)
+        .map(|k| Series {
+            name: format!("term {k}"),
+            points: vec![(0.0, k as f64), (1.0, 6.0 - k as f64)],
+            style: Style::Line,
+        })
+        .collect();
+    let p = Panel {
+        title: "t".into(),
+        x_label: "x".into(),
+        y_label: "y".into(),
+        series: lines,
+        log_x: false,
+        log_y: false,
+    };
+    let svg = render_svg(&[p]);
+    let rect = |stroke: &str| -> (f64, f64) {
+        let at = svg.find(&format!("fill=\"none\" stroke=\"{stroke}\"")).unwrap();
+        let tag = &svg[svg[..at].rfind("<rect").unwrap()..at];
+        let num = |key: &str| -> f64 {
+            let v = &tag[tag.find(key).unwrap() + key.len()..];
+            v[..v.find('"').unwrap()].parse().unwrap()
+        };
+        (num(" x=\""), num(" width=\""))
+    };
+    let (frame_x, frame_w) = rect("#444444");
+    let (legend_x, legend_w) = rect("#DDDDDD");
+    assert!(
+        legend_x >= frame_x + frame_w,
+        "the legend at {legend_x} inside the plot to {}",
+        frame_x + frame_w
+    );
+    assert!(legend_x + legend_w <= f64::from(W), "{legend_x} + {legend_w}");
+    for k in 0..7 {
+        assert!(svg.contains(&format!("term {k}")), "entry {k}");
+    }
+}
