@@ -221,9 +221,12 @@ impl Summary<'_> {
             match a.sigma_arcsec {
                 Some(s) if rough => writeln!(
                     o,
-                    "uncertainty       {s:.2} arcsec (1 sigma, from the residuals with only {dof} degree(s) of freedom: rough; see the noise model's below)"
+                    "uncertainty       {s:.2} arcsec (1 sigma, from the residuals with only {dof} degree(s) of freedom, widened by Student's t: rough; see the noise model's below)"
                 )?,
-                Some(s) => writeln!(o, "uncertainty       {s:.2} arcsec (1 sigma, from the residuals)")?,
+                Some(s) => writeln!(
+                    o,
+                    "uncertainty       {s:.2} arcsec (1 sigma, from the residuals, widened by Student's t over {dof} dof)"
+                )?,
                 None => writeln!(o, "uncertainty       undefined (0 dof: as many unknowns as positions)")?,
             }
             writeln!(o, "residual SS       {:.6} (deg/h)^2 over {} positions", a.rss, a.n)?;

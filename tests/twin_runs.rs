@@ -5,6 +5,7 @@ use nf_instrument::encoder::EncoderError;
 use nf_instrument::inclinometer::InclError;
 use nf_instrument::run::{Fault, RunConfig, RunReport, Stage, TiltPolicy};
 use nf_model::angle::wrap_180;
+use nf_model::order::Order;
 use nf_twin::{Faults, InclinometerFault, Recorder, Rng, TwinConfig, simulate};
 
 /// A short run: 24 positions of 0.5 s, the twin's noise scaled to keep 0.005 deg/h per dwell.
@@ -217,6 +218,28 @@ fn a_large_tilt_run_under_warn_keeps_an_honest_azimuth() {
     let (rms, rms_run) = ((z2 / runs as f64).sqrt(), (z2_run / runs as f64).sqrt());
     println!("RMS error/sigma {rms:.2}, under the noise model {rms_run:.2}");
     assert!(rms < 1.35 && rms_run < 1.35, "{rms} {rms_run}");
+}
+
+/// Eight positions leave the residuals 5 degrees of freedom: their sigma, widened by
+/// Student's t (1.31), holds; unwidened an outside audit found RMS error/sigma 1.36.
+#[test]
+fn a_short_run_s_sigma_from_its_residuals_is_widened_by_student_s_t() {
+    let mut rng = Rng::new(8);
+    let (mut z2, runs) = (0.0, 80);
+    for seed in 0..runs {
+        let (mut twin, mut run) = short();
+        twin.seed = 800 + seed;
+        twin.instrument.psi_deg = rng.uniform(0.0, 360.0);
+        run.positions = 8;
+        run.order = Order::OppositePairs;
+        let (report, _) = go(&twin, &run);
+        let a = report.azimuth.unwrap();
+        let err = wrap_180(a.psi_deg as f64 - twin.instrument.psi_deg) * 3600.0;
+        z2 += (err / a.sigma_arcsec.unwrap() as f64).powi(2);
+    }
+    let rms = (z2 / runs as f64).sqrt();
+    println!("RMS error/sigma {rms:.2}");
+    assert!((0.75..1.2).contains(&rms), "{rms}");
 }
 
 #[test]

@@ -196,8 +196,10 @@ pub struct RunError {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Azimuth {
     pub psi_deg: f32,
-    /// Standard error of `psi` from the residuals; `None` (undefined) with no degrees of
-    /// freedom, when the positions are as many as the unknowns.
+    /// Standard error of `psi` from the residuals, widened by Student's t for their degrees
+    /// of freedom (`t(0.975, dof) / 1.96`: 1.31 at 5, 1.04 at 50), so that 1.96 of it holds
+    /// 95 % of errors; `None` (undefined) with no degrees of freedom, when the positions are
+    /// as many as the unknowns.
     pub sigma_arcsec: Option<f32>,
     pub amplitude_dph: f32,
     pub offset_dph: f32,
@@ -538,7 +540,7 @@ fn resolved(r: &Running<f32>, lat_deg: f32) -> bool {
 fn summary(r: &FitResult<f32>) -> Azimuth {
     Azimuth {
         psi_deg: r.psi_deg,
-        sigma_arcsec: (r.dof > 0).then_some(r.sigma_psi_deg * 3600.0),
+        sigma_arcsec: (r.dof > 0).then(|| r.sigma_psi_deg * 3600.0 * uncertainty::student_widening::<f32>(r.dof)),
         amplitude_dph: r.amplitude_dph,
         offset_dph: r.offset_dph,
         rss: r.rss,
