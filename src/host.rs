@@ -136,6 +136,12 @@ pub fn main() -> ExitCode {
         },
         ..RunConfig::default()
     };
+    // `-`: the recording to standard output, the summary to standard error.
+    let to_stdout = a.out == "-";
+    if let Some(why) = nf::out_path::unwritable(&a.out).filter(|_| !to_stdout) {
+        eprintln!("error: cannot write the recording to '{}': {why}", a.out);
+        return ExitCode::from(2);
+    }
     if !a.quiet {
         log::set_logger(&VirtualTimeLogger).ok();
         log::set_max_level(log::LevelFilter::Info);
@@ -145,23 +151,33 @@ pub fn main() -> ExitCode {
     let (report, world) = simulate(&twin, &cfg, &mut rec);
     let wall = wall.elapsed();
     // A run that recorded nothing leaves a file of an earlier run as it was.
-    if rec.0.lines.is_empty() {
+    let written = if rec.0.lines.is_empty() {
         eprintln!("nothing recorded: {} not written", a.out);
-    } else if let Err(e) = std::fs::write(&a.out, rec.0.text()) {
-        eprintln!("cannot write the recording to {}: {e}", a.out);
-        return ExitCode::FAILURE;
-    }
+        Ok(())
+    } else if to_stdout {
+        std::io::stdout().lock().write_all(rec.0.text().as_bytes())
+    } else {
+        std::fs::write(&a.out, rec.0.text())
+    };
     let summary = Summary {
-        out: (!rec.0.lines.is_empty()).then_some(a.out.as_str()),
+        out: (!rec.0.lines.is_empty()).then_some(if to_stdout { "standard output" } else { a.out.as_str() }),
         wall_s: wall.as_secs_f64(),
         virtual_s: world.t_s(),
         truth_deg: twin.instrument.psi_deg,
     };
+    // The summary still goes out when the recording could not be written: it is the result.
+    let printed = match to_stdout {
+        true => summary.print(&mut std::io::stderr().lock(), &report),
+        false => summary.print(&mut std::io::stdout().lock(), &report),
+    };
     // A reader of standard output that has gone (`cargo run | head`) is no failure.
-    if let Err(e) = summary.print(&report)
-        && e.kind() != std::io::ErrorKind::BrokenPipe
-    {
-        eprintln!("cannot write to standard output: {e}");
+    let gone = |e: &std::io::Error| e.kind() == std::io::ErrorKind::BrokenPipe;
+    if let Some(e) = written.as_ref().err().filter(|e| !gone(e)) {
+        eprintln!("cannot write the recording to {}: {e}", a.out);
+        return ExitCode::FAILURE;
+    }
+    if let Some(e) = printed.as_ref().err().filter(|e| !gone(e)) {
+        eprintln!("cannot write the summary: {e}");
         return ExitCode::FAILURE;
     }
     match report.result {
@@ -189,8 +205,7 @@ struct Summary<'a> {
 const FEW_DOF: u32 = 5;
 
 impl Summary<'_> {
-    fn print(&self, report: &RunReport) -> std::io::Result<()> {
-        let mut o = std::io::stdout().lock();
+    fn print(&self, o: &mut impl Write, report: &RunReport) -> std::io::Result<()> {
         writeln!(
             o,
             "run of {:.1} s (virtual) in {:.3} s: {} positions recorded{}",

@@ -220,6 +220,43 @@ fn the_main_run_checks_its_options() {
     assert!(o.status.success() && !err.contains("panicked"), "{err}");
 }
 
+/// A recording path that cannot be written is refused before the run (it ran its whole
+/// course, then lost the result); `-` sends the recording to standard output and the summary
+/// to standard error, and `nf fit -` reads it there.
+#[test]
+fn the_main_run_s_output_is_checked_first_and_may_be_piped() {
+    let main_run = |out: &str| {
+        Command::new(env!("CARGO_BIN_EXE_north-finder"))
+            .args(["--quiet", "--positions", "8", "--dwell-ms", "100", "--out", out])
+            .output()
+            .unwrap()
+    };
+    let o = main_run("/nonexistent-folder/x.csv");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("the folder /nonexistent-folder does not exist") && o.stdout.is_empty(),
+        "{err}"
+    );
+    let o = main_run("-");
+    let (rec, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{err}");
+    assert!(
+        rec.starts_with("# format = northfinder-recording/1") && err.contains("recorded to standard output"),
+        "{err}"
+    );
+    let mut fit = Command::new(env!("CARGO_BIN_EXE_nf"))
+        .args(["fit", "-", "--json"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::io::Write::write_all(&mut fit.stdin.take().unwrap(), &o.stdout).unwrap();
+    let fitted = fit.wait_with_output().unwrap();
+    assert!(fitted.status.success());
+    assert!(String::from_utf8_lossy(&fitted.stdout).contains("\"azimuth_deg\""));
+}
+
 #[test]
 fn a_run_stopped_at_three_positions_reports_its_sigma_as_undefined() {
     let run = RunConfig {

@@ -21,6 +21,7 @@ pub mod noise_calib;
 pub mod noise_est;
 pub mod noise_file;
 pub mod noise_fit;
+pub mod out_path;
 pub mod paper;
 pub mod plan;
 pub mod plan_noise;

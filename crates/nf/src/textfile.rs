@@ -364,7 +364,14 @@ impl KindText for csv::Error {
 /// become U+FFFD, so that a cell the reader needs fails with its line and column. Lines ended
 /// by a carriage return alone (classic Mac OS) are read as lines.
 pub fn read_text(path: &str) -> Result<String, Error> {
-    match std::fs::read(path) {
+    // `-`: standard input, so that a run's recording can be piped in.
+    let bytes = if path == "-" {
+        let mut b = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut b).map(|_| b)
+    } else {
+        std::fs::read(path)
+    };
+    match bytes {
         Ok(bytes) => {
             let text = String::from_utf8_lossy(&bytes).into_owned();
             Ok(if text.contains('\r') && !text.contains('\n') {

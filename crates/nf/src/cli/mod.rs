@@ -153,15 +153,9 @@ pub(crate) fn folders_exist(paths: &[&Option<String>]) -> Result<(), Fail> {
 /// Refuses, before any work, an output path whose folder does not exist or that names a
 /// folder itself.
 fn folder_exists(path: &str) -> Result<(), Fail> {
-    let p = std::path::Path::new(path);
-    let bad = |why: String| Err(Fail(format!("cannot write {path}: {why}"), 2));
-    if p.is_dir() {
-        return bad("it is a folder".into());
-    }
-    match p.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) if dir.exists() && !dir.is_dir() => bad(format!("{} is a file, not a folder", dir.display())),
-        Some(dir) if !dir.is_dir() => bad(format!("the folder {} does not exist", dir.display())),
-        _ => Ok(()),
+    match crate::out_path::unwritable(path) {
+        Some(why) => Err(Fail(format!("cannot write {path}: {why}"), 2)),
+        None => Ok(()),
     }
 }
 
