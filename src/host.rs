@@ -38,33 +38,36 @@ struct Args {
     /// The twin's random seed.
     #[arg(long, default_value_t = TwinConfig::default().seed, allow_hyphen_values = true)]
     seed: u64,
-    /// Positions per turn.
+    /// Positions per turn, 4 to 720.
     #[arg(long, default_value_t = RunConfig::DEFAULT.positions, allow_hyphen_values = true,
           value_parser = clap::value_parser!(u16).range(4..=720))]
     positions: u16,
-    /// Visiting order: a name (sequential, forward-back, opposite-pairs, ...) or a list of positions.
+    /// Visiting order: a name (sequential, forward-back, opposite-pairs, alternating-pairs,
+    /// interleaved) or a list of position numbers (0 to n - 1), at most 256.
     #[arg(long, default_value = "sequential")]
     order: String,
-    /// Dwell per position, ms.
+    /// Dwell per position, ms, 10 to 600000.
     #[arg(long, default_value_t = RunConfig::DEFAULT.dwell_ms, allow_hyphen_values = true,
           value_parser = clap::value_parser!(u32).range(10..=600_000))]
     dwell_ms: u32,
-    /// End the run when the running sigma under the noise model reaches this, arcsec.
+    /// End the run when the running sigma under the noise model reaches this, arcsec (above 0,
+    /// up to 36000).
     #[arg(long, allow_hyphen_values = true, value_parser = above(0.0, 36_000.0))]
     target_arcsec: Option<f64>,
-    /// The twin's true azimuth psi (Eq. 7), deg.
+    /// The twin's true azimuth psi (Eq. 7), deg, -360 to 360.
     #[arg(long, default_value_t = TwinConfig::default().instrument.psi_deg, allow_hyphen_values = true,
           value_parser = real(-360.0, 360.0))]
     psi: f64,
-    /// Latitude, deg.
+    /// Latitude, deg, -89 to 89.
     #[arg(long, default_value_t = TwinConfig::default().instrument.latitude_deg, allow_hyphen_values = true,
           value_parser = real(-MAX_LATITUDE_DEG, MAX_LATITUDE_DEG))]
     lat: f64,
-    /// The twin's shaft tilt, deg.
+    /// The twin's shaft tilt, deg, 0 to 10.
     #[arg(long, default_value_t = TwinConfig::default().instrument.tilt_deg, allow_hyphen_values = true,
           value_parser = real(0.0, 10.0))]
     tilt: f64,
-    /// Largest shaft tilt the levelling check accepts (as the host link's `SET tilt_limit`), deg.
+    /// Largest shaft tilt the levelling check accepts (as the host link's `SET tilt_limit`),
+    /// deg, 0 to 10.
     #[arg(long, default_value_t = decimal(RunConfig::DEFAULT.tilt_limit_deg), allow_hyphen_values = true,
           value_parser = real(0.0, 10.0))]
     tilt_limit: f64,
@@ -72,7 +75,7 @@ struct Args {
     /// as the host link's `SET tilt_policy`.
     #[arg(long, value_enum, default_value = "refuse")]
     tilt_policy: Policy,
-    /// Where the recording goes.
+    /// Where the recording goes (`-`: standard output, the summary then on standard error).
     #[arg(long, default_value = "north-finder-run.csv")]
     out: String,
     /// No run log on stderr.
@@ -164,6 +167,7 @@ pub fn main() -> ExitCode {
         wall_s: wall.as_secs_f64(),
         virtual_s: world.t_s(),
         truth_deg: twin.instrument.psi_deg,
+        target_arcsec: a.target_arcsec,
     };
     // The summary still goes out when the recording could not be written: it is the result.
     let printed = match to_stdout {
@@ -199,6 +203,7 @@ struct Summary<'a> {
     wall_s: f64,
     virtual_s: f64,
     truth_deg: f64,
+    target_arcsec: Option<f64>,
 }
 
 /// Degrees of freedom below which the residual sigma is called rough.
@@ -250,7 +255,8 @@ impl Summary<'_> {
                 "amplitude         {:.4} deg/h, offset {:.4} deg/h",
                 a.amplitude_dph, a.offset_dph
             )?;
-            write!(o, "twin's true psi   {:.5} deg: error {err:+.2} arcsec", self.truth_deg)?;
+            let truth = nf_model::angle::wrap_360(self.truth_deg);
+            write!(o, "twin's true psi   {truth:.5} deg: error {err:+.2} arcsec")?;
             match a.sigma_arcsec {
                 Some(s) if !rough => writeln!(o, " = {:+.2} sigma", err / s as f64)?,
                 _ => writeln!(o)?,
@@ -269,10 +275,10 @@ impl Summary<'_> {
                 u.psi_deg,
                 u.sigma_psi_deg * 3600.0,
                 u.dwells,
-                if report.target_reached {
-                    " (target reached, run ended early)"
-                } else {
-                    ""
+                match (report.target_reached, self.target_arcsec) {
+                    (true, _) => " (target reached, run ended early)".into(),
+                    (false, Some(t)) => format!(" (target {t} arcsec NOT reached)"),
+                    (false, None) => String::new(),
                 }
             )?;
         }

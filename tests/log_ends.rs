@@ -129,3 +129,43 @@ fn a_run_that_recorded_nothing_is_said_so() {
         "{err}"
     );
 }
+
+#[test]
+fn a_log_cut_before_its_end_bounds_the_indices_by_the_order_and_says_what_cut_it() {
+    let (code, log, _) = main_run("cut.csv", &["--positions", "12", "--dwell-ms", "200"]);
+    assert_eq!(code, 0, "{log}");
+    let head: String = log
+        .lines()
+        .take_while(|l| !l.contains("result:"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    // A line the 12 positions of a sequential run never make, without the run's end.
+    let last = head.lines().find(|l| l.contains(" rec 11,")).unwrap();
+    let (before, cells) = last.split_once(" rec 11,").unwrap();
+    let (t, rest) = cells.split_once(',').unwrap();
+    let t: f64 = t.parse().unwrap();
+    let extra = format!("{before} rec 12,{:.3},{rest}", t + 3.0);
+    let (code, _, err) = nf(&["log", &write("beyond.log", &format!("{head}{extra}\n"))]);
+    assert!(
+        code == 2 && err.contains("index 12 is beyond the 12 visits of the run's 12 positions in sequential order"),
+        "{err}"
+    );
+    // Cut by the next run: said so, not "the log ends".
+    let (code, _, err) = nf(&["log", &write("cut-by-next.log", &format!("{head}{log}")), "--run", "1"]);
+    assert!(
+        code == 0 && err.contains("the next run in the log begins before this one's end"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_refused_run_before_a_whole_one_is_not_read_as_its_end() {
+    let (_, refused, _) = main_run("refused-first.csv", &["--positions", "12", "--tilt", "1"]);
+    let (code, log, _) = main_run("whole.csv", &["--positions", "12", "--dwell-ms", "200"]);
+    assert_eq!(code, 0, "{log}");
+    let (code, _, err) = nf(&["log", &write("refused-then-whole.log", &format!("{refused}{log}"))]);
+    assert!(
+        code == 0 && !err.contains("stopped early") && err.contains("12 positions recovered"),
+        "{err}"
+    );
+}

@@ -494,12 +494,15 @@ where
             }))
         })?;
         let r = running.azimuth();
-        info!(
-            "under the noise model: psi {} deg +- {} arcsec after {} dwells",
-            r.psi_deg,
-            r.sigma_psi_deg * 3600.0,
-            r.dwells
-        );
+        // Before three dwells the azimuth is the priors' (a sigma of millions of arcsec).
+        if r.dwells >= 3 {
+            info!(
+                "under the noise model: psi {} deg +- {} arcsec after {} dwells",
+                r.psi_deg,
+                r.sigma_psi_deg * 3600.0,
+                r.dwells
+            );
+        }
         Ok(r)
     }
 
@@ -695,6 +698,14 @@ where
             })
         }
         Err(_) => {}
+    }
+    if let (true, false, Some(u)) = (cfg.target_arcsec > 0.0, report.target_reached, report.under_noise) {
+        warn!(
+            "target {} arcsec not reached: sigma {} arcsec after {} dwells",
+            cfg.target_arcsec,
+            u.sigma_psi_deg * 3600.0,
+            u.dwells
+        );
     }
     if let (true, Some(lev)) = (cfg.tilt_correction, report.levelling) {
         second_order_tilt(cfg, &lev, &mut report);

@@ -125,13 +125,21 @@ impl Log {
             .iter()
             .enumerate()
             .map(|(k, &(a, b))| {
-                let first = if k == 0 { 0 } else { self.rec[a].0 };
+                let own = self.rec.get(a).map_or(0, |r| r.0);
+                let first = if k == 0 { 0 } else { own };
                 let next = bounds.get(k + 1).map_or(usize::MAX, |&(c, _)| self.rec[c].0);
                 let within = |line: &usize| (first..next).contains(line);
                 Log {
                     rec: self.rec[a..b].to_vec(),
                     warnings: self.warnings.iter().filter(|w| within(&w.line)).cloned().collect(),
-                    ends: self.ends.iter().filter(|e| within(&e.line)).cloned().collect(),
+                    // An end before the run's first line is a run that recorded nothing (one
+                    // refused at levelling), not this one's.
+                    ends: self
+                        .ends
+                        .iter()
+                        .filter(|e| within(&e.line) && e.line > own)
+                        .cloned()
+                        .collect(),
                 }
             })
             .collect()

@@ -3,6 +3,7 @@
 use super::{Fail, note, write_out};
 use crate::logparse;
 use crate::recording::{IndexGap, Recording, Row, index_gaps};
+use nf_model::order::Order;
 use std::io::Read;
 
 #[derive(clap::Args)]
@@ -68,8 +69,10 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
     }
     let mut runs = logparse::extract(&bytes).runs();
     let count = runs.len();
-    let log = match a.run {
-        Some(k) if k as usize <= count => runs.swap_remove(k as usize - 1),
+    // A run followed by another in the log whose end it lacks was cut (a reset, a new START).
+    let cut = |k: usize| k < count;
+    let (log, cut) = match a.run {
+        Some(k) if k as usize <= count => (runs.swap_remove(k as usize - 1), cut(k as usize)),
         Some(k) => {
             return Err(Fail(
                 format!(
@@ -90,7 +93,7 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
                 2,
             ));
         }
-        None => runs.swap_remove(0),
+        None => (runs.swap_remove(0), false),
     };
     for w in &log.warnings {
         note!("nf: warning: {}", w.at(&a.log));
@@ -131,7 +134,7 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
             2,
         ));
     }
-    ends_as_logged(&a.log, &log, &rec.rows, a.allow_gaps)?;
+    ends_as_logged(&a.log, &log, &rec.rows, (a.allow_gaps, cut))?;
     let lines: Vec<usize> = rec.rows.iter().map(|r| r.line).collect();
     write_out(&a.out, &log.written(&lines))?;
     note!("{} positions recovered from {}", rec.rows.len(), a.log);
@@ -141,15 +144,17 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
 /// The positions against the count the run's end gives (`result: ..., n 72`): lines lost at
 /// the end of a run leave no gap in the indices, and a line beyond the count is not the
 /// firmware's. A run that stopped early, or whose end the log does not hold, is said so.
-fn ends_as_logged(path: &str, log: &logparse::Log, rows: &[Row], allow_gaps: bool) -> Result<(), Fail> {
+fn ends_as_logged(path: &str, log: &logparse::Log, rows: &[Row], (allow_gaps, cut): (bool, bool)) -> Result<(), Fail> {
     for e in log.ends.iter().filter(|e| e.early()) {
         note!("nf: note: {path}:{}: the run stopped early: {}", e.line, e.text);
     }
     let Some((kept, end)) = log.kept() else {
-        note!(
-            "nf: note: {path}: the log ends before the run does (no 'result:' or 'run ended:' line): the positions it holds are written"
-        );
-        return Ok(());
+        let why = match cut {
+            true => "the next run in the log begins before this one's end (a reset or a new START cut it)",
+            false => "the log ends before the run does",
+        };
+        note!("nf: note: {path}: {why} (no 'result:' or 'run ended:' line): the positions it holds are written");
+        return beyond_the_order(path, log, rows);
     };
     if let Some(r) = rows.iter().find(|r| r.index as usize >= kept) {
         return Err(Fail(
@@ -180,4 +185,28 @@ fn ends_as_logged(path: &str, log: &logparse::Log, rows: &[Row], allow_gaps: boo
         note!("nf: warning: {what}");
     }
     Ok(())
+}
+
+/// Without the run's end, the visits its metadata make (`positions` and a named `order`) bound
+/// the indices: a line beyond them is not the firmware's.
+fn beyond_the_order(path: &str, log: &logparse::Log, rows: &[Row]) -> Result<(), Fail> {
+    let n: Option<u16> = log.meta("positions").and_then(|n| n.parse().ok());
+    let order = log.meta("order").and_then(|o| Order::parse(o).ok());
+    let (n, o) = match (n, order) {
+        (Some(n), Some(o)) if !matches!(o, Order::List(_)) => (n, o),
+        _ => return Ok(()),
+    };
+    let visits = o.visits(n) as usize;
+    match rows.iter().find(|r| r.index as usize >= visits) {
+        Some(r) => Err(Fail(
+            format!(
+                "{path}:{}: index {} is beyond the {visits} visits of the run's {n} positions in {} order",
+                r.line,
+                r.index,
+                o.name()
+            ),
+            2,
+        )),
+        None => Ok(()),
+    }
 }
