@@ -517,6 +517,15 @@ fn a_log_in_deg_per_s_gets_a_hint() {
         })
         .collect();
     assert!(notes(&per_s, "dps.csv").contains("is rate_dph in deg/s or rad/s?"));
+    // And in the noise file, which plan and fit read (an outside audit found it lost there).
+    let (log, model) = (tmp("dps.csv"), tmp("dps.noise"));
+    let (code, _, err) = nf(&["allan", &log, "--out", &model]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        std::fs::read_to_string(&model)
+            .unwrap()
+            .contains("is rate_dph in deg/s or rad/s?")
+    );
 }
 
 /// Exit code 2, nothing on stdout, and the message names the place.

@@ -515,3 +515,23 @@ fn an_output_in_a_folder_that_does_not_exist_is_refused_before_any_work() {
         );
     }
 }
+
+/// A noise file read from standard input as `-`, as recordings and static logs are (an outside
+/// audit's `nf plan --noise -` was "cannot read -").
+#[test]
+fn a_noise_file_is_read_from_standard_input_as_a_dash() {
+    let model = "arw_deg_rth = 0.0002\nbias_instability_dph = 0.001\nrrw_dph_rth = 0\n";
+    let mut plan = Command::new(env!("CARGO_BIN_EXE_nf"))
+        .args(["plan", "--noise", "-", "--mc-runs", "0", "--json"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::io::Write::write_all(&mut plan.stdin.take().unwrap(), model.as_bytes()).unwrap();
+    let o = plan.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["noise_model"]["bias_instability_dph"], 0.001, "{json}");
+}

@@ -174,7 +174,7 @@ fn parse_json(text: &str) -> Result<NoiseModel, Error> {
 
 /// Reads a noise file; the error reads `file:line: what`.
 pub fn read(path: &str) -> Result<NoiseModel, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+    let text = crate::textfile::read_text(path).map_err(|e| e.at(path))?;
     parse(&text).map_err(|e| e.at(path))
 }
 

@@ -72,12 +72,14 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
     let (points, fit) = fit_series(&src.segments(), src.sampling, src.removed.as_ref())
         .map_err(|e| Fail(format!("{}: {e}", a.file), 2))?;
     let mut src = src;
-    if fit.model.arw_deg_rth > 0.0 && fit.model.arw_deg_rth < IMPLAUSIBLE_ARW {
-        src.notes.push(format!(
+    // Said in the text and written into `--out`'s file, which plan and fit read.
+    let units = (fit.model.arw_deg_rth > 0.0 && fit.model.arw_deg_rth < IMPLAUSIBLE_ARW).then(|| {
+        format!(
             "N {} deg/sqrt(h) is below any gyro's (the best ring lasers and HRGs are near 1e-4): is rate_dph in deg/s or rad/s? deg/h is deg/s times 3600",
             g(fit.model.arw_deg_rth)
-        ));
-    }
+        )
+    });
+    src.notes.extend(units.clone());
     let r = Report {
         file: &a.file,
         src: &src,
@@ -109,7 +111,7 @@ pub fn cmd_allan(a: AllanArgs) -> Result<(), Fail> {
             );
         }
         // Each term's interval beside it: a reader of the file sees which are only bounds.
-        let mut comments = vec![comment];
+        let mut comments: Vec<String> = std::iter::once(comment).chain(units).collect();
         comments.extend(
             TERMS
                 .iter()

@@ -31,7 +31,10 @@ pub struct PlanArgs {
     /// Encoder uncertainty per position, deg.
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.001, value_parser = real(0.0, 10.0))]
     encoder: f64,
-    /// Shaft-tilt uncertainty left after levelling, deg.
+    /// Shaft-tilt uncertainty the azimuth is left with, deg: a levelling residue the fit does
+    /// not correct (`nf fit --tilt none`). The firmware and `nf fit` correct the tilt from the
+    /// inclinometer at each position, which leaves a few hundredths of this default: plan
+    /// such runs with `--tilt 0` or the inclinometer's own uncertainty.
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.003, value_parser = real(0.0, 10.0))]
     tilt: f64,
     /// Positions of the planned run.

@@ -115,7 +115,7 @@ impl InstrumentFile {
     }
 
     pub fn read(path: &str) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+        let text = crate::textfile::read_text(path).map_err(|e| e.at(path))?;
         Self::parse(&text).map_err(|e| e.at(path))
     }
 

@@ -86,7 +86,7 @@ fn target(out: &mut impl Write, a: &PlanArgs, p: &Planned, t: f64, search: &plan
         Some(c) => writeln!(out, "target {t}\": fastest run under the noise model: {}", describe(c))?,
         None if tilt_arcsec(a.tilt, a.lat) >= t => writeln!(
             out,
-            "target {t}\": not reachable: the levelling residue alone (tilt {} deg) gives {:.2}\"",
+            "target {t}\": not reachable: the levelling residue alone (tilt {} deg, left uncorrected) gives {:.2}\"; the firmware and nf fit correct the tilt from the inclinometer: --tilt 0 plans such a run",
             a.tilt,
             tilt_arcsec(a.tilt, a.lat)
         )?,
