@@ -326,6 +326,16 @@ fn error(e: link::LinkError) -> Reply {
 mod tests {
     use super::*;
 
+    /// Xorshift draws below `m`.
+    fn draws(mut state: u64) -> impl FnMut(u64) -> u64 {
+        move |m| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % m
+        }
+    }
+
     fn feed(a: &mut LineAssembler, bytes: &[u8]) -> std::vec::Vec<std::string::String> {
         let mut out = std::vec::Vec::new();
         for &b in bytes {
@@ -394,13 +404,7 @@ mod tests {
     fn random_byte_streams_are_cut_as_the_model_cuts_them() {
         // Streams of lines of 0 to 120 bytes from an alphabet with both terminators, two
         // non-ASCII bytes and a form feed.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |m: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % m
-        };
+        let mut next = draws(0x2545_f491_4f6c_dd1d);
         let alphabet = [b'a', b'Z', b' ', b'7', b'\n', b'\r', 0xff, 0xc2, 0x0c];
         let mut a = LineAssembler::default();
         for _ in 0..2000 {
@@ -462,13 +466,7 @@ mod tests {
     /// sent back as `SET` lines to the firmware's defaults: the same configuration.
     #[test]
     fn config_shows_every_value_as_set_reads_it_back() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = |m: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % m
-        };
+        let mut next = draws(0x9e37_79b9_7f4a_7c15);
         let send = |session: &mut Session, line: &str| {
             let (_, reply) = session.handle(Assembled::Line(line));
             reply
