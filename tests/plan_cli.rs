@@ -37,6 +37,10 @@ fn plan_budget_target_and_monte_carlo() {
         let bytes = std::fs::read(&path).unwrap();
         assert!(bytes.windows(magic.len()).take(200).any(|w| w == magic), "{name}");
     }
+    // The search's answer is marked beside the run asked (an outside audit: the plot showed
+    // only the default n = 72 run).
+    let svg = std::fs::read_to_string(tmp("plan.svg")).unwrap();
+    assert!(svg.contains("fastest: "), "{svg}");
 }
 
 #[test]

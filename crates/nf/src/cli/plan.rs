@@ -292,6 +292,13 @@ impl Planned {
                 points: curve(&|_| t),
                 style: Style::Line,
             }))
+            // The search's answer, of its own order and dwell: where the curves above are
+            // the run asked.
+            .chain(self.search.as_ref().and_then(|p| p.fastest.as_ref()).map(|c| Series {
+                name: format!("fastest: {}, {:.1} s dwells, {:.0} s", c.order, c.dwell_s, c.time_s),
+                points: vec![(c.n as f64, c.sigma_arcsec)],
+                style: Style::Points,
+            }))
             .collect(),
             log_x: false,
             log_y: false,
