@@ -289,8 +289,10 @@ impl Report<'_> {
                 100.0 * BOUND_LEVEL
             )
         } else {
+            // White noise and the walk lift the floor above flicker's own: the reading is high,
+            // the fit's B the estimate.
             format!(
-                "read off as B = floor / {:.3}: {} deg/h",
+                "read off as B = floor / {:.3}: {} deg/h, high where white noise or the walk lift the floor; the fitted B above is the estimate",
                 flicker_floor_factor(),
                 g(ma / flicker_floor_factor())
             )
