@@ -87,11 +87,17 @@ pub enum LinkError {
 impl LinkError {
     /// The message, through `write_str` alone (no `core::fmt` on the MCU).
     pub fn write_message<W: core::fmt::Write>(&self, w: &mut W) -> core::fmt::Result {
-        w.write_str(match self {
+        let text = match self {
             LinkError::Empty => "empty line",
             LinkError::UnknownCommand => "unknown command (SET, START, ABORT, STATUS, CONFIG, SAVE, DEFAULTS)",
+            // The keys from their one table.
             LinkError::UnknownKey => {
-                "unknown key (n dwell_ms settle_ms lat tilt_limit tilt_policy order order+ target_arcsec arw bias_instability rrw gm_sigma gm_tau cal_zero cal_scale)"
+                w.write_str("unknown key (")?;
+                for (i, (name, _)) in crate::link_key::KEYS.iter().enumerate() {
+                    w.write_str(if i == 0 { "" } else { " " })?;
+                    w.write_str(name)?;
+                }
+                ")"
             }
             LinkError::MissingValue => "SET needs a key and a value",
             LinkError::BadValue(k) => return k.write_refusal(w, false),
@@ -102,7 +108,8 @@ impl LinkError {
                 return e.write_message(w);
             }
             LinkError::NoListToExtend => "SET order+ continues a listed order; set one first",
-        })
+        };
+        w.write_str(text)
     }
 }
 
@@ -292,6 +299,10 @@ mod tests {
 
     #[test]
     fn a_refusal_names_the_key_and_its_range() {
+        assert_eq!(
+            says("SET colour blue"),
+            "unknown key (n dwell_ms settle_ms lat tilt_limit tilt_policy order order+ target_arcsec arw bias_instability rrw gm_sigma gm_tau cal_zero cal_scale)"
+        );
         assert_eq!(says("SET n 3"), "n: out of range, 4 to 720");
         assert_eq!(says("set LAT 91"), "lat: out of range, -89 to 89 deg");
         assert_eq!(says("SET arw -1"), "arw: out of range, 0 to 1000000 deg/sqrt(h)");

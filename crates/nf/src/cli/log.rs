@@ -70,9 +70,8 @@ pub fn cmd_log(a: LogArgs) -> Result<(), Fail> {
     let mut runs = logparse::extract(&bytes).runs();
     let count = runs.len();
     // A run followed by another in the log whose end it lacks was cut (a reset, a new START).
-    let cut = |k: usize| k < count;
     let (log, cut) = match a.run {
-        Some(k) if k as usize <= count => (runs.swap_remove(k as usize - 1), cut(k as usize)),
+        Some(k) if k as usize <= count => (runs.swap_remove(k as usize - 1), (k as usize) < count),
         Some(k) => {
             return Err(Fail(
                 format!(
