@@ -27,6 +27,19 @@ fn plan_budget_target_and_monte_carlo() {
     let (code, out, _) = nf(&["plan", "--target", "1", "--mc-runs", "0"]);
     assert_eq!(code, 0);
     assert!(out.contains("not reachable"), "{out}");
+    // The target's answer comes first, the run of the defaults (n = 72) after it as that.
+    let (_, out, _) = nf(&["plan", "--target", "15", "--mc-runs", "0"]);
+    assert!(
+        out.starts_with("target 15\": fastest run under the noise model: "),
+        "{out}"
+    );
+    assert!(
+        out.contains("\nthe run of --n, --dwell and --order: n = 72, dwell 2 s"),
+        "{out}"
+    );
+    assert!(!out.contains("planned run"), "{out}");
+    let (_, out, _) = nf(&["plan", "--mc-runs", "0"]);
+    assert!(out.starts_with("planned run: n = 72, dwell 2 s"), "{out}");
     let (code, _, err) = nf(&["plan", "--n", "2"]);
     assert_eq!(code, 2, "{err}");
     // The plot, as SVG and as PNG.

@@ -1,4 +1,5 @@
-//! The text of `nf plan`: the planned run and its budgets, then what was asked beside them.
+//! The text of `nf plan`: the planned run and its budgets, then what was asked beside them;
+//! with a target, its answer first and the run of `--n`, `--dwell` and `--order` after it.
 
 use super::{PlanArgs, Planned, describe, unreachable};
 use crate::plan_noise;
@@ -16,9 +17,16 @@ pub(super) fn write(out: &mut impl Write, a: &PlanArgs, p: &Planned) -> Result<(
             short(p.inp.dwell_s)
         )
     };
+    let asked = match (a.target, &p.search) {
+        (Some(t), Some(search)) => {
+            target(out, a, t, search)?;
+            "the run of --n, --dwell and --order"
+        }
+        _ => "planned run",
+    };
     writeln!(
         out,
-        "planned run: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position{visits}), {:.0} s to north with levelling and moves",
+        "{asked}: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position{visits}), {:.0} s to north with levelling and moves",
         a.n,
         a.dwell,
         p.order.name(),
@@ -26,8 +34,8 @@ pub(super) fn write(out: &mut impl Write, a: &PlanArgs, p: &Planned) -> Result<(
         p.time_s
     )?;
     budgets(out, p)?;
-    if let (Some(t), Some(search)) = (a.target, &p.search) {
-        target(out, a, p, t, search)?;
+    if let Some(t) = a.target {
+        at_n(out, a, p, t)?;
     }
     if let Some((c, stated, k)) = &p.twin {
         writeln!(
@@ -79,9 +87,8 @@ fn budgets(out: &mut impl Write, p: &Planned) -> Result<()> {
     Ok(())
 }
 
-/// The runs that reach the target `t` arcsec (or why none does), the allowances and the
-/// paper's n for it.
-fn target(out: &mut impl Write, a: &PlanArgs, p: &Planned, t: f64, search: &plan_noise::Plan) -> Result<()> {
+/// The runs that reach the target `t` arcsec, or why none does.
+fn target(out: &mut impl Write, a: &PlanArgs, t: f64, search: &plan_noise::Plan) -> Result<()> {
     match &search.fastest {
         Some(c) => writeln!(out, "target {t}\": fastest run under the noise model: {}", describe(c))?,
         None if tilt_arcsec(a.tilt, a.lat) >= t => writeln!(
@@ -111,6 +118,11 @@ fn target(out: &mut impl Write, a: &PlanArgs, p: &Planned, t: f64, search: &plan
             )?;
         }
     }
+    Ok(())
+}
+
+/// What the target asks of the run of `--n` and `--dwell`: the allowances and the paper's n.
+fn at_n(out: &mut impl Write, a: &PlanArgs, p: &Planned, t: f64) -> Result<()> {
     if let Some(s) = p.allowance {
         writeln!(
             out,
