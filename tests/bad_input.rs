@@ -157,7 +157,7 @@ fn every_numeric_option_has_a_checked_range() {
 }
 
 #[test]
-fn an_order_of_fewer_than_three_positions_is_refused_before_the_run() {
+fn an_order_of_fewer_than_three_positions_or_four_visits_is_refused_before_the_run() {
     refused(
         &["simulate", "--n", "8", "--order", "0,4,0,4"],
         "fewer than 3 different positions listed",
@@ -166,7 +166,12 @@ fn an_order_of_fewer_than_three_positions_is_refused_before_the_run() {
         &["simulate", "--n", "8", "--order", "0,0,0"],
         "fewer than 3 different positions listed",
     );
-    let (code, _, err) = nf(&["simulate", "--n", "8", "--order", "0,4,1"]);
+    // Three visits: no residual, so no sigma; a named order's run has at least 4 positions.
+    refused(
+        &["simulate", "--n", "8", "--order", "0,4,1"],
+        "fewer than 4 visits listed: the fit's 3 terms leave no residual for a sigma",
+    );
+    let (code, _, err) = nf(&["simulate", "--n", "8", "--order", "0,4,1,6"]);
     assert_eq!(code, 0, "{err}");
 }
 

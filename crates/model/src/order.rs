@@ -91,6 +91,9 @@ pub enum OrderError {
     /// A listed order that visits fewer than three different positions: Eq. 7's `C`, `A` and
     /// `B` need three.
     FewPositions,
+    /// A listed order of fewer than four visits: the fit's three terms leave no residual for
+    /// a sigma (a named order's run has at least four positions).
+    FewVisits,
 }
 
 impl OrderError {
@@ -128,6 +131,9 @@ impl OrderError {
             OrderError::Empty => w.write_str("the listed order is empty"),
             OrderError::OddPositions => w.write_str("paired orders need an even number of positions"),
             OrderError::FewPositions => w.write_str("fewer than 3 different positions listed"),
+            OrderError::FewVisits => {
+                w.write_str("fewer than 4 visits listed: the fit's 3 terms leave no residual for a sigma")
+            }
         }
     }
 }
@@ -246,6 +252,7 @@ impl Order {
                     n,
                 }),
                 None if fewer_than_three(l.as_slice()) => Err(OrderError::FewPositions),
+                None if l.len < 4 => Err(OrderError::FewVisits),
                 None => Ok(()),
             },
             _ => Ok(()),
@@ -377,7 +384,8 @@ mod tests {
         for few in ["0", "0,4,4,0", "3,3,3,3,5"] {
             assert_eq!(list(few), Err(OrderError::FewPositions), "{few}");
         }
-        for enough in ["0,4,1", "0,0,0,4,4,2", "7,6,5,4,3,2,1,0"] {
+        assert_eq!(list("0,4,1"), Err(OrderError::FewVisits));
+        for enough in ["0,4,1,1", "0,0,0,4,4,2", "7,6,5,4,3,2,1,0"] {
             assert_eq!(list(enough), Ok(()), "{enough}");
         }
     }
