@@ -403,10 +403,13 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
             "final: psi {} deg +- {:.2}\" (the models met, averaged by their weights and {})",
             angle5(fz.azimuth_deg),
             fz.sigma_arcsec,
-            match d.through_shocks {
-                true => "fitted through the shocks",
-                false => {
-                    "refitted under every noise model the recording allows: the sigma holds the wander one run cannot rule out"
+            match (d.through_shocks, d.residual_dof) {
+                (true, _) => "fitted through the shocks".to_string(),
+                (false, Some(dof)) => format!(
+                    "each white at its residual level, its sigma widened by Student's t ({dof} dof at the most likely) so that 95 % of errors lie within 1.96 sigma"
+                ),
+                (false, None) => {
+                    "refitted under every noise model the recording allows: the sigma holds the wander one run cannot rule out".to_string()
                 }
             }
         )?,

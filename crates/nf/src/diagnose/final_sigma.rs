@@ -17,6 +17,7 @@ use super::noise::{plausible_candidates, short_time, with_bursts_held_out};
 use crate::noise_calib::{self, Calibration, Verdict};
 use crate::noise_est::{self, Colours, THINNED, Term};
 use crate::noise_fit::azimuth;
+use crate::student_fit;
 use nf_model::angle::wrap_180;
 
 /// One model the selection met: its columns (Eq. 7's first), the rates it explains, and the
@@ -32,6 +33,9 @@ pub struct FinalSigma {
     pub verdict: Verdict,
     /// `None` when the most likely model's noise is white (its replicates would not scale it).
     pub calibration: Option<Calibration>,
+    /// The most likely model's residual degrees of freedom, where they alone measured the
+    /// noise ([`by_residuals`]).
+    pub residual_dof: Option<usize>,
     /// Each model's weight and calibrated verdict, in the order given; `None` where its
     /// noise could not be estimated.
     pub models: Vec<Option<(f64, Verdict)>>,
@@ -40,6 +44,11 @@ pub struct FinalSigma {
 impl FinalSigma {
     /// Where the final sigma under the noise came from, for the report.
     pub fn describe(&self) -> String {
+        if let Some(dof) = self.residual_dof {
+            return format!(
+                "white at each model's residual level ({dof} dof at the most likely: too few to tell a colour by, and no quarter means or samples' spread), each sigma widened by Student's t as `nf fit`'s"
+            );
+        }
         let scaled = self.calibration.map_or(String::new(), |c| {
             format!(
                 ", scaled by {:.2} as {} replicates drawn from the most likely showed",
@@ -69,6 +78,9 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
     }
     let short = short_time(d);
     let designs: Vec<Vec<Vec<f64>>> = met.iter().map(|m| with_bursts_held_out(d, &m.cols, m.y)).collect();
+    if short.quarters.is_empty() && short.spread.is_empty() && d.n() <= d.base_cols().len() + student_fit::MOST_DOF {
+        return by_residuals(d.n(), &designs, met);
+    }
     let base = noise_est::Data {
         t_s: &d.t,
         dwell_s: short.dwell_s,
@@ -128,6 +140,54 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
     Some(FinalSigma {
         verdict: mixed(&weighted, lead.verdict.psi_deg)?,
         calibration,
+        residual_dof: None,
+        models,
+    })
+}
+
+/// A run whose few residuals alone measure the noise (as `nf fit`'s [`student_fit`]): each
+/// model white at its own residual level, its sigma widened by Student's t of its degrees
+/// of freedom, weighed by the small-sample information criterion (AICc: its likelihood
+/// less k + k (k + 1) / (n - k - 1) for its k parameters, the level and the scanned ones
+/// counted). The colour models' REML over five contrasts at times gave a walk a fifth of
+/// the white sigma (an outside audit: eight positions in opposite pairs, RMS error/sigma
+/// 1.63, 6 of 60 beyond 3 sigma); and half a log n a parameter let an effect named falsely
+/// at eight positions, its residual then three contrasts that happened to be small, carry
+/// the final (RMS error/sigma 71 over such runs).
+fn by_residuals(n: usize, designs: &[Vec<Vec<f64>>], met: &[Met]) -> Option<FinalSigma> {
+    let fits: Vec<Option<(f64, student_fit::StudentFit)>> = designs
+        .iter()
+        .zip(met)
+        .map(|(cols, m)| {
+            let f = student_fit::fit(cols, m.y)?;
+            let rss = f.level_dph.powi(2) * f.dof as f64;
+            let k = (cols.len() + m.scanned + 1) as f64;
+            let room = n as f64 - k - 1.0;
+            let evidence = -0.5 * n as f64 * (rss / n as f64).ln() - k - k * (k + 1.0) / room;
+            (room > 0.0 && evidence.is_finite()).then_some((evidence, f))
+        })
+        .collect();
+    let (lead, top) = fits
+        .iter()
+        .flatten()
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(e, f)| (f, *e))?;
+    let weights: Vec<f64> = fits
+        .iter()
+        .map(|f| f.as_ref().map_or(0.0, |(e, _)| (e - top).exp()))
+        .collect();
+    let total: f64 = weights.iter().sum();
+    let weights: Vec<f64> = weights.iter().map(|w| w / total).collect();
+    let models: Vec<Option<(f64, Verdict)>> = merged(designs, met, &weights)
+        .iter()
+        .zip(&fits)
+        .map(|(w, f)| Some(((*w)?, f.as_ref()?.1.verdict)))
+        .collect();
+    let weighted: Vec<(f64, Verdict)> = models.iter().flatten().copied().collect();
+    Some(FinalSigma {
+        verdict: mixed(&weighted, lead.verdict.psi_deg)?,
+        calibration: None,
+        residual_dof: Some(lead.dof),
         models,
     })
 }

@@ -120,6 +120,9 @@ pub struct Diagnosis {
     /// The factor replicates drawn from the noise scaled the final sigma by (`None`: not
     /// scaled).
     pub sigma_calibration: Option<f64>,
+    /// The most likely model's residual degrees of freedom where they alone measured the
+    /// noise, white, each model's sigma widened by Student's t (`None`: a noise model's).
+    pub residual_dof: Option<usize>,
     /// Whether the noise model was estimated from the recording (not given).
     pub noise_estimated: bool,
     /// Eq. 7 on the raw rates, under the noise model.
@@ -248,6 +251,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
             Some(s) => s.calibration,
             None => result.own.as_ref().and_then(|o| o.calibration).map(|c| c.psi),
         },
+        residual_dof: result.own.as_ref().and_then(|o| o.residual_dof),
         noise_estimated: opt.noise == NoiseChoice::Estimate,
         baseline: {
             let plain = summary(&base_model, &base);

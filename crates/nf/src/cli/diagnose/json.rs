@@ -144,6 +144,9 @@ struct NoiseModelJson<'a> {
     final_sigma_from: Option<&'a str>,
     /// The factor a parametric bootstrap scaled the final sigma by (null: not scaled).
     sigma_calibration: Option<f64>,
+    /// The most likely model's residual degrees of freedom where they alone measured the
+    /// noise (null: a noise model did): white, each sigma widened by Student's t.
+    residual_dof: Option<usize>,
     /// The model estimated with a drift: drift, jump and temperature are judged under it.
     with_drift: ColouredJson,
     /// The model estimated again with the named effects in the design: the noise terms named
@@ -237,6 +240,7 @@ pub(super) fn diagnosis_json<'a>(d: &'a Diagnosis, sim: Option<&'a SimReport>) -
             source: &d.noise_source,
             final_sigma_from: d.final_sigma_from.as_deref(),
             sigma_calibration: d.sigma_calibration,
+            residual_dof: d.residual_dof,
             with_drift: (&d.drift_model).into(),
             with_effects: (&d.noise_with_effects).into(),
             wander_tested: d.wander_tested,
