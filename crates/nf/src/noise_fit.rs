@@ -103,8 +103,16 @@ impl NoiseSource {
                 spread_refused,
             } => {
                 let refused = spread_refused.map_or(String::new(), |r| format!("; {}", spread_left_out(r)));
+                // Student's t has a finite variance, nu / (nu - 2), from 3 dof on.
+                let tails = match dof {
+                    0..=2 => "which has no finite variance".to_string(),
+                    _ => format!(
+                        "whose variance is {:.2} times the normal's",
+                        *dof as f64 / (*dof as f64 - 2.0)
+                    ),
+                };
                 format!(
-                    "white at the level of the dwell means' residuals alone ({dof} dof: too few to tell a colour by, and no quarter means or samples' spread{refused}); the azimuth's error follows Student's t of {dof} dof, which has no finite variance: sigma is {widening:.2} times the least-squares one, so that 95 % of such errors lie within 1.96 sigma (68 % within {one_sigma:.2} sigma); quarter means, the samples' spread or a noise model (`--noise`) would measure the noise"
+                    "white at the level of the dwell means' residuals alone ({dof} dof: too few to tell a colour by, and no quarter means or samples' spread{refused}); the azimuth's error follows Student's t of {dof} dof, {tails}: sigma is {widening:.2} times the least-squares one, so that 95 % of such errors lie within 1.96 sigma (68 % within {one_sigma:.2} sigma); quarter means, the samples' spread or a noise model (`--noise`) would measure the noise"
                 )
             }
             NoiseSource::Given(s) => format!("given: {s}"),
