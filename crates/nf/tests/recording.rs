@@ -210,6 +210,22 @@ fn a_tilt_beyond_90_deg_is_no_reading_and_a_warning() {
 }
 
 #[test]
+fn a_last_position_without_its_line_end_is_read_with_a_warning() {
+    // A file cut short while written: its last value may be cut too ("6.913" read as "6.").
+    let cut = GOOD.trim_end();
+    let r = Recording::parse(cut).unwrap();
+    assert_eq!(r.rows.len(), 4);
+    let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(
+        said[0].starts_with("line 8: the last position has no line end"),
+        "{said:?}"
+    );
+    assert!(Recording::parse(GOOD).unwrap().warnings.is_empty());
+    assert!(Recording::parse(&format!("{GOOD}# end")).unwrap().warnings.len() == 1);
+}
+
+#[test]
 fn a_malformed_dwell_or_sample_rate_is_an_error_at_its_line() {
     for (key, v) in [
         ("dwell_s", "abc"),
