@@ -115,12 +115,8 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
         .max_by(|a, b| a.1.total_cmp(&b.1))?
         .0;
     let lead = judged[top].as_ref()?;
-    let weights: Vec<f64> = judged
-        .iter()
-        .map(|j| j.as_ref().map_or(0.0, |j| (j.log_evidence - lead.log_evidence).exp()))
-        .collect();
-    let total: f64 = weights.iter().sum();
-    let weights: Vec<f64> = weights.iter().map(|w| w / total).collect();
+    let evidence: Vec<Option<f64>> = judged.iter().map(|j| j.as_ref().map(|j| j.log_evidence)).collect();
+    let weights = weights_of(&evidence, lead.log_evidence);
     let (supported, _) = lead.estimate.supported();
     let calibration = if supported.model.is_coloured() {
         let truth = azimuth(&supported.coef, &supported.cov);
@@ -172,12 +168,8 @@ fn by_residuals(n: usize, designs: &[Vec<Vec<f64>>], met: &[Met]) -> Option<Fina
         .flatten()
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(e, f)| (f, *e))?;
-    let weights: Vec<f64> = fits
-        .iter()
-        .map(|f| f.as_ref().map_or(0.0, |(e, _)| (e - top).exp()))
-        .collect();
-    let total: f64 = weights.iter().sum();
-    let weights: Vec<f64> = weights.iter().map(|w| w / total).collect();
+    let evidence: Vec<Option<f64>> = fits.iter().map(|f| f.as_ref().map(|(e, _)| *e)).collect();
+    let weights = weights_of(&evidence, top);
     let models: Vec<Option<(f64, Verdict)>> = merged(designs, met, &weights)
         .iter()
         .zip(&fits)
@@ -190,6 +182,13 @@ fn by_residuals(n: usize, designs: &[Vec<Vec<f64>>], met: &[Met]) -> Option<Fina
         residual_dof: Some(lead.dof),
         models,
     })
+}
+
+/// The models' weights from their log-evidence (`None`: weight 0), `top` the largest.
+fn weights_of(evidence: &[Option<f64>], top: f64) -> Vec<f64> {
+    let weights: Vec<f64> = evidence.iter().map(|e| e.map_or(0.0, |e| (e - top).exp())).collect();
+    let total: f64 = weights.iter().sum();
+    weights.iter().map(|w| w / total).collect()
 }
 
 /// Models whose designs are the same once bursts are held out (Eq. 7, and Eq. 7 with the
