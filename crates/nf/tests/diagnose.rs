@@ -344,6 +344,37 @@ fn a_temperature_cycle_is_named_as_a_thermal_drift_rather_than_a_drift() {
     assert!(first >= 10, "thermal drift named first in {first} of {runs}");
 }
 
+#[test]
+fn a_few_missing_temperatures_are_bridged_and_the_thermal_drift_still_named() {
+    // Three blank temp_c cells switched the thermal test off (an outside audit: a clear
+    // thermal drift then named as an encoder error and a walk in 13 and 12 of 15).
+    let (mut first, runs) = (0, 8);
+    for seed in 0..runs {
+        let mut twin = quiet_twin(300 + seed);
+        let s = twin.noise.white_mean_sd_dph(1.0);
+        twin.temp_swing = nf_twin::TempSwing {
+            amplitude_c: 2.0,
+            period_s: 67.0 / (1.5 + 0.2 * seed as f64),
+            phase_deg: 0.0,
+        };
+        twin.bias_temp_dph_per_c = 8.0 * s / 2.0;
+        let mut rec = recording(&twin);
+        for i in [5, 20, 40] {
+            rec.rows[i].temp_c = None;
+        }
+        let d = diagnose(&rec, &Options::default()).unwrap();
+        first += usize::from(first_effect(&d).effect == Kind::ThermalDrift);
+        assert!(
+            d.notes
+                .iter()
+                .any(|n| n.starts_with("temp_c: 3 of the 48 dwells have no reading: each bridged")),
+            "{:?}",
+            d.notes
+        );
+    }
+    assert!(first >= 7, "thermal drift named first in {first} of {runs}");
+}
+
 /// 48 dwells of 1 s at 24 angles, each angle dwelt at twice running (no move between), white
 /// noise of 0.01 deg/h per quarter; the first quarter of the dwells `excess` picks is 0.03
 /// deg/h high.

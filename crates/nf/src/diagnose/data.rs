@@ -12,7 +12,10 @@ pub struct Data {
     pub gamma: Vec<f64>,
     pub t: Vec<f64>,
     pub rate: Vec<f64>,
+    /// The temperature of each dwell, those without a reading bridged ([`temperatures`]).
     pub temp: Option<Vec<f64>>,
+    /// Dwells whose temperature was bridged.
+    pub temp_bridged: usize,
     pub quarters: Option<Vec<[f64; 4]>>,
     /// Time scaled to [-1, 1] over the run, and the half span it was scaled by, s.
     pub tau: Vec<f64>,
@@ -26,10 +29,12 @@ impl Data {
         let t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
         let (lo, hi) = (t[0], t[t.len() - 1]);
         let half_span_s = ((hi - lo) / 2.0).max(1e-9);
+        let (temp, temp_bridged) = temperatures(&t, &rec.rows.iter().map(|r| r.temp_c).collect::<Vec<_>>());
         Data {
             gamma: rec.rows.iter().map(|r| r.encoder_deg).collect(),
             rate: rec.rows.iter().map(|r| r.rate_dph).collect(),
-            temp: rec.rows.iter().map(|r| r.temp_c).collect(),
+            temp,
+            temp_bridged,
             quarters: rec.rows.iter().map(|r| r.quarters_dph).collect(),
             tau: t.iter().map(|v| (v - (lo + hi) / 2.0) / half_span_s).collect(),
             half_span_s,
@@ -92,9 +97,47 @@ impl Data {
     }
 }
 
+/// The temperature at times `t` (sorted) from the readings there are: a dwell without one
+/// takes the line between its neighbours in time that have one (the nearest at either end),
+/// as a temperature moves slowly; with how many were bridged. `None` where fewer than half
+/// the dwells have a reading: three blank cells in 36 switched the thermal test off (an
+/// outside audit: a clear thermal drift then named as an encoder error and a walk).
+fn temperatures(t: &[f64], read: &[Option<f64>]) -> (Option<Vec<f64>>, usize) {
+    let known: Vec<usize> = (0..read.len()).filter(|&i| read[i].is_some()).collect();
+    if known.is_empty() || 2 * known.len() < read.len() {
+        return (None, 0);
+    }
+    let at = |i: usize| read[i].unwrap_or_default();
+    let bridged = (0..read.len())
+        .map(|i| {
+            read[i].unwrap_or_else(|| {
+                let after = known.partition_point(|&k| k < i);
+                match (after.checked_sub(1).map(|b| known[b]), known.get(after).copied()) {
+                    (Some(b), Some(a)) => at(b) + (at(a) - at(b)) * (t[i] - t[b]) / (t[a] - t[b]),
+                    (b, a) => at(b.or(a).unwrap_or(i)),
+                }
+            })
+        })
+        .collect();
+    (Some(bridged), read.len() - known.len())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_missing_temperature_is_bridged_from_its_neighbours_in_time() {
+        let t = [0.0, 1.0, 2.0, 3.0, 5.0];
+        let read = [None, Some(20.0), None, Some(22.0), Some(23.0)];
+        assert_eq!(temperatures(&t, &read), (Some(vec![20.0, 20.0, 21.0, 22.0, 23.0]), 2));
+        let read = [Some(20.0), None, Some(22.0), Some(23.0), None];
+        assert_eq!(temperatures(&t, &read), (Some(vec![20.0, 21.0, 22.0, 23.0, 23.0]), 2));
+        assert_eq!(temperatures(&t, &[Some(1.0); 5]), (Some(vec![1.0; 5]), 0));
+        // Fewer than half read: no temperature.
+        assert_eq!(temperatures(&t[..3], &[None, Some(20.0), None]), (None, 0));
+        assert_eq!(temperatures(&t[..2], &[None, None]), (None, 0));
+    }
 
     /// Data of `n` positions visited at `gammas`, 1.35 s apart.
     fn data(gammas: &[f64]) -> Data {

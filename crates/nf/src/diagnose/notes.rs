@@ -17,6 +17,13 @@ fn corr(a: &[f64], b: &[f64]) -> f64 {
 /// Notes on the findings, the rival explanations met at a step, and the models averaged.
 pub fn notes(findings: &[Finding], rivals: &[(Kind, Kind)], models: &[Weighted], d: &Data) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
+    if d.temp_bridged > 0 {
+        out.push(format!(
+            "temp_c: {} of the {} dwells have no reading: each bridged from the readings before and after it in time, for the thermal test",
+            d.temp_bridged,
+            d.n()
+        ));
+    }
     let named = |k: Kind| findings.iter().any(|f| f.effect == k);
     let rival = |a: Kind, b: Kind| rivals.iter().any(|&(x, y)| (x, y) == (a, b) || (x, y) == (b, a));
     if rival(Kind::BiasDrift, Kind::ThermalDrift)
