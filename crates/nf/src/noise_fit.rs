@@ -160,12 +160,15 @@ pub struct Shocks {
     pub struck: Vec<usize>,
 }
 
+/// Where [`dwell_of`] found the dwell when the metadata gave it.
+pub const DWELL_FROM_METADATA: &str = "metadata dwell_s";
+
 /// The dwell length: the metadata, else samples over the sample rate, else 80 % of the
 /// shortest spacing of the dwell centres.
 pub fn dwell_of(rec: &Recording) -> (f64, &'static str) {
     let meta = |k: &str| rec.meta.get(k).and_then(|v| v.parse::<f64>().ok()).filter(|v| *v > 0.0);
     if let Some(d) = meta("dwell_s") {
-        return (d, "metadata dwell_s");
+        return (d, DWELL_FROM_METADATA);
     }
     if let (Some(rate), Some(s)) = (meta("sample_rate_hz"), rec.rows.first().and_then(|r| r.samples))
         && s > 0

@@ -102,9 +102,14 @@ fn noise(out: &mut impl Write, an: &Analysis) -> Result<()> {
     let g = &an.gls;
     let m = &g.model;
     writeln!(out, "noise model    {}", g.source.describe())?;
+    // The dwell, where no metadata gives it, is a guess: say whence.
+    let from = match g.dwell_from {
+        crate::noise_fit::DWELL_FROM_METADATA => String::new(),
+        from => format!(", {from}"),
+    };
     writeln!(
         out,
-        "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean: {:.5} deg/h), {}; chi2 {:.1} on {} dof",
+        "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean{from}: {:.5} deg/h), {}; chi2 {:.1} on {} dof",
         m.arw_deg_rth,
         g.dwell_s,
         m.white_mean_sd_dph(g.dwell_s),
