@@ -261,3 +261,59 @@ fn a_strong_walk_over_a_short_sweep_is_not_taken_for_white_noise() {
         an.gls.dof
     );
 }
+
+#[test]
+fn a_given_model_the_recording_scatters_beyond_widens_the_sigma_and_says_so() {
+    // A noise file scaled otherwise than the recording (an outside audit: a hundred times
+    // small, sigma 0.37" for an error of 29.5", its chi2 of 598 367 on 69 dof only printed).
+    let truth = NoiseModel {
+        bias_instability_dph: 0.004,
+        ..NoiseModel::white(SW, 1.0)
+    };
+    let small = NoiseModel {
+        arw_deg_rth: truth.arw_deg_rth / 10.0,
+        bias_instability_dph: truth.bias_instability_dph / 10.0,
+        ..truth
+    };
+    let mut rng = Rng::new(5);
+    let (mut z_small, mut widened_true, runs) = (0.0, 0, 30);
+    for seed in 0..runs {
+        let twin = level_twin(truth, 4000 + seed, &mut rng);
+        let cfg = RunConfig {
+            positions: 48,
+            dwell_ms: 1000,
+            settle_ms: 200,
+            tilt_policy: TiltPolicy::Warn,
+            ..RunConfig::default()
+        };
+        let mut rec = Recorder::default();
+        simulate(&twin, &cfg, &mut rec);
+        let r = Recording::parse(&rec.text()).unwrap();
+        let given = |m: NoiseModel| {
+            let o = Options {
+                noise: NoiseChoice::Given(m, "file".into()),
+                ..Options::default()
+            };
+            analyse(&r, &o).unwrap().gls
+        };
+        let g = given(small);
+        let NoiseSource::Given { scatter: Some(s), .. } = g.source else {
+            panic!("seed {seed}: a model ten times small not flagged: {:?}", g.source)
+        };
+        assert!(s > 20.0 && (g.widening - s.sqrt()).abs() < 1e-9, "{s} {}", g.widening);
+        assert!(g.source.describe().contains("it does NOT describe this recording"));
+        let e = wrap_180(g.psi_deg - twin.instrument.psi_deg) * 3600.0;
+        z_small += (e / (g.sigma_psi_deg * 3600.0)).powi(2);
+        widened_true += usize::from(matches!(
+            given(truth).source,
+            NoiseSource::Given { scatter: Some(_), .. }
+        ));
+    }
+    let rms = (z_small / runs as f64).sqrt();
+    println!("a model ten times small: RMS error/sigma {rms:.2}; the true model widened in {widened_true} of {runs}");
+    assert!(
+        (0.6..1.4).contains(&rms),
+        "RMS error/sigma {rms:.2} under a model ten times small"
+    );
+    assert!(widened_true <= 1, "the true model flagged in {widened_true} of {runs}");
+}

@@ -139,7 +139,32 @@ pub fn colour_text(m: &NoiseModel) -> String {
         m.bias_instability_dph, m.rrw_dph_rth
     );
     if m.gm_sigma_dph > 0.0 {
-        s += &format!(", Gauss-Markov {:.3e} deg/h over {:.1} s", m.gm_sigma_dph, m.gm_tau_s);
+        s += &format!(
+            ", Gauss-Markov {:.3e} deg/h over {} s",
+            m.gm_sigma_dph,
+            three_figures(m.gm_tau_s)
+        );
     }
     s
+}
+
+/// `x` to three significant figures: a Gauss-Markov time of 0.01 s (a sensor's filter, as
+/// `nf allan` fits it) read "over 0.0 s" at one decimal.
+fn three_figures(x: f64) -> String {
+    if x <= 0.0 || !x.is_finite() {
+        return crate::textfile::short(x);
+    }
+    let scale = 10f64.powi(2 - x.log10().floor() as i32);
+    crate::textfile::short((x * scale).round() / scale)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::three_figures;
+
+    #[test]
+    fn a_time_is_shown_to_three_figures() {
+        let shown: Vec<String> = [0.01, 0.012345, 9.84, 123.456, 4567.0].map(three_figures).into();
+        assert_eq!(shown, ["0.01", "0.0123", "9.84", "123", "4570"]);
+    }
 }

@@ -104,6 +104,24 @@ fn design(d: &Data) -> Vec<Vec<f64>> {
     cols
 }
 
+/// A given model named, and said not to describe the recording where Eq. 7's residuals
+/// scatter beyond it (`nf fit` then widens its sigma by the root of that scatter): the tests
+/// and sigmas here whiten by its shape and take the level the recording shows, so a file
+/// scaled otherwise than the recording leaves them as they are, and would pass unremarked.
+fn given_source(whitening: &Whitening, d: &Data, y: &[f64], m: &NoiseModel, label: &str) -> String {
+    let beyond = whitening
+        .windows
+        .cov(m)
+        .and_then(|c| crate::gls::fit(&d.base_cols(), y, &c))
+        .and_then(|g| crate::noise_fit::beyond_given(g.chi2, g.dof).map(|r| (r, g.chi2, g.dof)));
+    match beyond {
+        None => format!("given: {label}"),
+        Some((r, chi2, dof)) => format!(
+            "given: {label}; it does NOT describe this recording: Eq. 7's residuals scatter {r:.3} times the variance it gives them (chi2 {chi2:.1} on {dof} dof): another gyro, another scaling or units, or an effect in the recording; the tests and sigmas here take its shape at the level the recording shows"
+        ),
+    }
+}
+
 /// Whether `c` has a part that `cols` cannot make.
 fn independent(cols: &[Vec<f64>], c: &[f64]) -> bool {
     let norm: f64 = c.iter().map(|v| v * v).sum();
@@ -137,7 +155,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
             drift: given.clone(),
             wander,
             plausible: vec![(1.0, *m)],
-            source: format!("given: {label}"),
+            source: given_source(&whitening, d, y, m, label),
             terms: Vec::new(),
             design: cols,
             whitening,

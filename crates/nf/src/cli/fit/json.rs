@@ -203,7 +203,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
             }),
             sigma_calibration: match &g.source {
                 NoiseSource::Estimated { calibration, .. } => calibration.map(|c| c.psi),
-                NoiseSource::Residuals { .. } | NoiseSource::Given(_) => None,
+                NoiseSource::Residuals { .. } | NoiseSource::Given { .. } => None,
             },
             sigma_widening: g.widening,
             source: g.source.describe(),

@@ -89,6 +89,10 @@ fn widened(g: &NoiseFit) -> String {
             ", widened {:.2} times: Student's t of {dof} dof, 95 % within 1.96 sigma",
             g.widening
         ),
+        NoiseSource::Given { scatter: Some(_), .. } => format!(
+            ", widened {:.2} times: the recording scatters beyond the given model",
+            g.widening
+        ),
         _ if g.widening < 1.005 => String::new(),
         _ => format!(
             ", widened {:.2} times for the noise models this run cannot rule out",
