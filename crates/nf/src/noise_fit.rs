@@ -136,11 +136,8 @@ impl NoiseSource {
                 )
             }
             NoiseSource::Given {
-                name,
-                scatter: None,
-                chi2,
-                dof,
-            } => format!("given: {name} (the dwell means' chi2 under it {chi2:.1} on {dof} dof)"),
+                name, scatter: None, ..
+            } => format!("given: {name}"),
             NoiseSource::Given {
                 name,
                 scatter: Some(r),
