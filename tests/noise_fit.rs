@@ -34,6 +34,20 @@ fn level_twin(noise: NoiseModel, seed: u64, rng: &mut Rng) -> TwinConfig {
     twin
 }
 
+/// A sweep of `twin` over `positions` dwells of 1 s.
+fn sweep(twin: &TwinConfig, positions: u16) -> Recording {
+    let cfg = RunConfig {
+        positions,
+        dwell_ms: 1000,
+        settle_ms: 200,
+        tilt_policy: TiltPolicy::Warn,
+        ..RunConfig::default()
+    };
+    let mut rec = Recorder::default();
+    simulate(twin, &cfg, &mut rec);
+    Recording::parse(&rec.text()).unwrap()
+}
+
 fn run(noise: NoiseModel, positions: u16, order: Order, seeds: u64) -> Stats {
     run_shocked(noise, Shocks::NONE, positions, order, seeds)
 }
@@ -197,16 +211,7 @@ fn four_positions(spread: bool, seeds: u64) -> (f64, f64) {
     let (mut ratios, mut z2) = (Vec::new(), 0.0);
     for seed in 0..seeds {
         let twin = level_twin(noise, 500 + seed, &mut rng);
-        let cfg = RunConfig {
-            positions: 4,
-            dwell_ms: 1000,
-            settle_ms: 200,
-            tilt_policy: TiltPolicy::Warn,
-            ..RunConfig::default()
-        };
-        let mut rec = Recorder::default();
-        simulate(&twin, &cfg, &mut rec);
-        let mut r = Recording::parse(&rec.text()).unwrap();
+        let mut r = sweep(&twin, 4);
         for row in &mut r.rows {
             row.quarters_dph = None;
             if !spread {
@@ -279,16 +284,7 @@ fn a_given_model_the_recording_scatters_beyond_widens_the_sigma_and_says_so() {
     let (mut z_small, mut widened_true, runs) = (0.0, 0, 30);
     for seed in 0..runs {
         let twin = level_twin(truth, 4000 + seed, &mut rng);
-        let cfg = RunConfig {
-            positions: 48,
-            dwell_ms: 1000,
-            settle_ms: 200,
-            tilt_policy: TiltPolicy::Warn,
-            ..RunConfig::default()
-        };
-        let mut rec = Recorder::default();
-        simulate(&twin, &cfg, &mut rec);
-        let r = Recording::parse(&rec.text()).unwrap();
+        let r = sweep(&twin, 48);
         let given = |m: NoiseModel| {
             let o = Options {
                 noise: NoiseChoice::Given(m, "file".into()),

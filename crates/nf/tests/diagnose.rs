@@ -316,6 +316,20 @@ fn dwells_that_scatter_beyond_their_quarters_are_not_unexplained() {
     assert!(unexplained <= 2, "unexplained in {unexplained} of 20");
 }
 
+/// A quiet twin whose temperature swings 2 C over `cycles` periods of a 67 s run, moving the
+/// bias by `level` white sds of a 1 s dwell mean at its peak.
+fn temperature_cycle(seed: u64, cycles: f64, level: f64) -> TwinConfig {
+    let mut twin = quiet_twin(seed);
+    let s = twin.noise.white_mean_sd_dph(1.0);
+    twin.temp_swing = nf_twin::TempSwing {
+        amplitude_c: 2.0,
+        period_s: 67.0 / cycles,
+        phase_deg: 0.0,
+    };
+    twin.bias_temp_dph_per_c = level * s / 2.0;
+    twin
+}
+
 #[test]
 fn a_temperature_cycle_is_named_as_a_thermal_drift_rather_than_a_drift() {
     // In a sweep 1.5 to 3 temperature cycles per run (48 positions 1.4 s apart) are a slow
@@ -323,14 +337,7 @@ fn a_temperature_cycle_is_named_as_a_thermal_drift_rather_than_a_drift() {
     // and jump, the recorded temperature explains it best.
     let (mut first, runs) = (0, 12);
     for seed in 0..runs {
-        let mut twin = quiet_twin(100 + seed);
-        let s = twin.noise.white_mean_sd_dph(1.0);
-        twin.temp_swing = nf_twin::TempSwing {
-            amplitude_c: 2.0,
-            period_s: 67.0 / (1.5 + 0.125 * seed as f64),
-            phase_deg: 0.0,
-        };
-        twin.bias_temp_dph_per_c = 2.5 * s / 2.0;
+        let twin = temperature_cycle(100 + seed, 1.5 + 0.125 * seed as f64, 2.5);
         let d = diagnose(&recording(&twin), &Options::default()).unwrap();
         let named = d.findings.iter().find(|f| !f.effect.is_noise()).map(|f| f.effect);
         first += usize::from(named == Some(Kind::ThermalDrift));
@@ -350,15 +357,7 @@ fn a_few_missing_temperatures_are_bridged_and_the_thermal_drift_still_named() {
     // thermal drift then named as an encoder error and a walk in 13 and 12 of 15).
     let (mut first, runs) = (0, 8);
     for seed in 0..runs {
-        let mut twin = quiet_twin(300 + seed);
-        let s = twin.noise.white_mean_sd_dph(1.0);
-        twin.temp_swing = nf_twin::TempSwing {
-            amplitude_c: 2.0,
-            period_s: 67.0 / (1.5 + 0.2 * seed as f64),
-            phase_deg: 0.0,
-        };
-        twin.bias_temp_dph_per_c = 8.0 * s / 2.0;
-        let mut rec = recording(&twin);
+        let mut rec = recording(&temperature_cycle(300 + seed, 1.5 + 0.2 * seed as f64, 8.0));
         for i in [5, 20, 40] {
             rec.rows[i].temp_c = None;
         }
