@@ -40,6 +40,19 @@ fn plan_budget_target_and_monte_carlo() {
     assert!(!out.contains("planned run"), "{out}");
     let (_, out, _) = nf(&["plan", "--mc-runs", "0"]);
     assert!(out.starts_with("planned run: n = 72, dwell 2 s"), "{out}");
+    // A sensor's short filter tail (an outside audit: the ADIS16405 as nf allan fits it) is
+    // each position's own noise: in the white budgets, 0.00988 deg/h at 1 s, not 0.00763.
+    let adis = ["--arw", "1.272e-4", "--gm-sigma", "0.04441", "--gm-tau", "0.01"];
+    let (code, out, err) = nf(&[&["plan", "--mc-runs", "0", "--dwell", "1", "--json"][..], &adis].concat());
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let g = j["gyro_dph_per_position"].as_f64().unwrap();
+    assert!((g - 0.00988).abs() < 2e-5, "{g}");
+    let (_, out, _) = nf(&[&["plan", "--mc-runs", "0", "--dwell", "1"][..], &adis].concat());
+    assert!(
+        out.contains(" deg/h per position with its 0.01 s Gauss-Markov tail)"),
+        "{out}"
+    );
     let (code, _, err) = nf(&["plan", "--n", "2"]);
     assert_eq!(code, 2, "{err}");
     // The plot, as SVG and as PNG.

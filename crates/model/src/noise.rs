@@ -129,6 +129,28 @@ impl NoiseModel {
         self.white_dph_rts() / t_s.sqrt()
     }
 
+    /// Whether the Gauss-Markov term is short beside a mean over `t_s` s (a tenth of it or
+    /// less: a sensor's filter, as `nf allan` fits it), so that such means do not share it.
+    pub fn gm_within(&self, t_s: f64) -> bool {
+        self.gm_sigma_dph > 0.0 && 10.0 * self.gm_tau_s <= t_s
+    }
+
+    /// Standard deviation (deg/h) of a mean over `t_s` s that it shares with no other such
+    /// mean: the white part, and the Gauss-Markov term where it is short beside `t_s`
+    /// ([`Self::gm_within`]), the exact variance of its mean.
+    pub fn own_mean_sd_dph(&self, t_s: f64) -> f64 {
+        let white = self.white_mean_sd_dph(t_s);
+        if !self.gm_within(t_s) {
+            return white;
+        }
+        let gm = NoiseModel {
+            gm_sigma_dph: self.gm_sigma_dph,
+            gm_tau_s: self.gm_tau_s,
+            ..Self::WHITE_NONE
+        };
+        (white * white + gm.coloured_cov(0.0, t_s, t_s)).sqrt()
+    }
+
     /// Second antiderivative of the coloured terms' autocovariance (deg/h)^2 s^2.
     fn kernel(&self, x: f64) -> f64 {
         let x = x.abs();
@@ -241,6 +263,34 @@ mod tests {
             ..NoiseModel::WHITE_NONE
         };
         assert!(close(q.allan_dev(0.5), 3f64.sqrt() * 2.0 / 0.5, 1e-12));
+    }
+
+    #[test]
+    fn a_short_gauss_markov_term_is_part_of_a_means_own_noise() {
+        // An ADIS16405 as `nf allan` fits it: N 1.272e-4 deg/sqrt(h), a 0.01 s filter tail
+        // of 0.0444 deg/h. A 1 s mean: white 0.00763 deg/h, with the tail 0.0099.
+        let m = NoiseModel {
+            arw_deg_rth: 1.272e-4,
+            gm_sigma_dph: 0.04441,
+            gm_tau_s: 0.01,
+            ..NoiseModel::WHITE_NONE
+        };
+        let (s, r) = (m.gm_sigma_dph, 1.0 / m.gm_tau_s);
+        let textbook = 2.0 * s * s * (r - 1.0 + (-r).exp()) / (r * r);
+        let white = m.white_mean_sd_dph(1.0);
+        assert!(close(m.own_mean_sd_dph(1.0), (white * white + textbook).sqrt(), 1e-9));
+        assert!(
+            close(m.own_mean_sd_dph(1.0), 0.00988, 2e-3),
+            "{}",
+            m.own_mean_sd_dph(1.0)
+        );
+        // A term as long as a tenth of the mean or longer is shared: not the mean's own.
+        let long = NoiseModel { gm_tau_s: 0.2, ..m };
+        assert_eq!(long.own_mean_sd_dph(1.0), white);
+        assert_eq!(
+            NoiseModel::white(0.005, 2.0).own_mean_sd_dph(2.0),
+            NoiseModel::white(0.005, 2.0).white_mean_sd_dph(2.0)
+        );
     }
 
     #[test]

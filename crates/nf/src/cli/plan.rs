@@ -211,7 +211,8 @@ impl Planned {
         let visits_per_position = order.visits(a.n as u16) as f64 / a.n as f64;
         let inp = plan::Inputs {
             latitude_deg: a.lat,
-            gyro_dph: model.white_mean_sd_dph(a.ref_dwell),
+            // A sensor's short filter tail is noise each position has on its own, as white.
+            gyro_dph: model.own_mean_sd_dph(a.ref_dwell),
             ref_dwell_s: a.ref_dwell,
             encoder_deg: a.encoder,
             tilt_deg: a.tilt,

@@ -8,6 +8,13 @@ use nf_model::uncertainty::tilt_arcsec;
 use std::io::{Result, Write};
 
 pub(super) fn write(out: &mut impl Write, a: &PlanArgs, p: &Planned) -> Result<()> {
+    let tail = match p.model.gm_within(a.ref_dwell) {
+        true => format!(
+            " with its {} s Gauss-Markov tail",
+            crate::textfile::short(p.model.gm_tau_s)
+        ),
+        false => String::new(),
+    };
     let visits = if p.visits_per_position == 1.0 {
         String::new()
     } else {
@@ -26,7 +33,7 @@ pub(super) fn write(out: &mut impl Write, a: &PlanArgs, p: &Planned) -> Result<(
     };
     writeln!(
         out,
-        "{asked}: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position{visits}), {:.0} s to north with levelling and moves",
+        "{asked}: n = {}, dwell {} s, {} order (gyro {:.5} deg/h per position{tail}{visits}), {:.0} s to north with levelling and moves",
         a.n,
         a.dwell,
         p.order.name(),
