@@ -275,6 +275,10 @@ fn simulate_then_fit_json() {
     assert!(out.contains(static_log), "{out}");
     let (code, out, _) = nf(&["fit", &rec, "--arw", "1.2e-4"]);
     assert!(code == 0 && !out.contains(static_log), "{out}");
+    assert!(!out.contains("with its Gauss-Markov tail"), "{out}");
+    // A sensor's short filter tail is each dwell's own noise too: said beside N's level.
+    let (code, out, _) = nf(&["fit", &rec, "--arw", "1.2e-4", "--gm-sigma", "0.04", "--gm-tau", "0.01"]);
+    assert!(code == 0 && out.contains(" with its Gauss-Markov tail), "), "{out}");
     // diagnose says which model judged what; a given one judges every effect, and the wander
     // test still checks it against the run.
     let (code, out, _) = nf(&["diagnose", &rec, "--arw", "1.2e-4"]);

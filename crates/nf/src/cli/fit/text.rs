@@ -111,9 +111,14 @@ fn noise(out: &mut impl Write, an: &Analysis) -> Result<()> {
         crate::noise_fit::DWELL_FROM_METADATA => String::new(),
         from => format!(", {from}"),
     };
+    // A sensor's short filter tail is also each dwell's own noise (`nf plan` budgets it so).
+    let tail = match m.gm_within(g.dwell_s) {
+        true => format!(", {:.5} with its Gauss-Markov tail", m.own_mean_sd_dph(g.dwell_s)),
+        false => String::new(),
+    };
     writeln!(
         out,
-        "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean{from}: {:.5} deg/h), {}; chi2 {:.1} on {} dof",
+        "               N {:.3e} deg/sqrt(h) (a {:.3} s dwell mean{from}: {:.5} deg/h{tail}), {}; chi2 {:.1} on {} dof",
         m.arw_deg_rth,
         g.dwell_s,
         m.white_mean_sd_dph(g.dwell_s),
