@@ -150,7 +150,7 @@ pub fn colour_text(m: &NoiseModel) -> String {
 
 /// `x` to three significant figures: a Gauss-Markov time of 0.01 s (a sensor's filter, as
 /// `nf allan` fits it) read "over 0.0 s" at one decimal.
-fn three_figures(x: f64) -> String {
+pub(crate) fn three_figures(x: f64) -> String {
     if x <= 0.0 || !x.is_finite() {
         return crate::textfile::short(x);
     }

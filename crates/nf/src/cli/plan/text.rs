@@ -11,7 +11,7 @@ pub(super) fn write(out: &mut impl Write, a: &PlanArgs, p: &Planned) -> Result<(
     let tail = match p.model.gm_within(a.ref_dwell) {
         true => format!(
             " with its {} s Gauss-Markov tail",
-            crate::textfile::short(p.model.gm_tau_s)
+            crate::cli::noise_args::three_figures(p.model.gm_tau_s)
         ),
         false => String::new(),
     };
