@@ -160,6 +160,7 @@ fn from_static(log: StaticLog, override_hz: Option<f64>, keep_spikes: bool) -> S
     if !log.temp_blank.is_empty() {
         notes.push(blank_cells("temp_c", &log.temp_blank, log.t_s.len(), "samples"));
     }
+    notes.extend(log.warnings.iter().map(Error::to_string));
     if !log.comments.is_empty() {
         notes.push(format!(
             "'#' lines among the samples (lines {}) are comments: skipped",

@@ -7,7 +7,9 @@
 //! angle on two rows is fine: a run may visit a position twice (`order = forward-back`).
 
 pub use crate::textfile::Error;
-use crate::textfile::{Head, blank_cells, err, is_missing, number, optional as optional_cell, read_text, short, shown};
+use crate::textfile::{
+    self, Head, blank_cells, err, is_missing, number, optional as optional_cell, read_text, short, shown,
+};
 use std::collections::BTreeMap;
 
 pub const FORMAT: &str = "northfinder-recording/1";
@@ -245,16 +247,10 @@ impl Recording {
             return err(0, "the recording has no positions");
         }
         warnings.extend(blanks.warnings(rows.len()));
-        // The lines are counted only then: a million-row file is not read again to no end.
-        if !text.ends_with('\n') {
-            let last = text.lines().count();
-            if rows.iter().any(|r| r.line == last) {
-                warnings.push(Error {
-                    line: last,
-                    what: "the last position has no line end: a file cut short while it was written ends so, its last value perhaps cut too (6.913 read as 6.); read as it stands".into(),
-                });
-            }
-        }
+        warnings.extend(textfile::unended(text, "position", || {
+            rows.iter().map(|r| r.line).max()
+        }));
+        warnings.extend(head.free_text());
         let comments = head.comment_lines();
         if let Some(&first) = comments.first() {
             warnings.push(Error {

@@ -3,7 +3,7 @@
 //! the log is split into contiguous segments, since an Allan variance across a gap would mix
 //! averaging times.
 
-use crate::textfile::{Error, Head, err, number, optional, short};
+use crate::textfile::{self, Error, Head, err, number, optional, short};
 use std::collections::BTreeMap;
 use std::ops::Range;
 
@@ -185,6 +185,8 @@ pub struct StaticLog {
     pub spacing: Spacing,
     /// The lines of `#` comments among the samples, skipped.
     pub comments: Vec<usize>,
+    /// What the reader read with a doubt: free text before the header, a last line cut.
+    pub warnings: Vec<Error>,
 }
 
 impl StaticLog {
@@ -242,8 +244,14 @@ impl StaticLog {
         }
         let spacing = Spacing::of(&t_s, &lines);
         rate_change(&t_s, &lines, spacing.resolution_s)?;
+        let warnings = head
+            .free_text()
+            .into_iter()
+            .chain(textfile::unended(text, "sample", || lines.last().copied()))
+            .collect();
         Ok(StaticLog {
             comments: head.comment_lines(),
+            warnings,
             meta: head.meta,
             t_s,
             rate_dph,
@@ -283,6 +291,15 @@ mod tests {
         assert_eq!(log.spacing.gaps[0].line, 7);
         assert_eq!(log.segments()[1], &[4.0, 5.0]);
         assert_eq!(log.meta["sample_rate_hz"], "10");
+        assert!(log.warnings.is_empty());
+        let cut = StaticLog::parse(&format!("# rig 4\n{}", text.trim_end())).unwrap();
+        let said: Vec<String> = cut.warnings.iter().map(Error::to_string).collect();
+        assert_eq!(said.len(), 2, "{said:?}");
+        assert!(said[0].starts_with("line 1: free text before the header"), "{said:?}");
+        assert!(
+            said[1].starts_with("line 9: the last sample has no line end"),
+            "{said:?}"
+        );
     }
 
     /// A static log's text of `t` and a constant rate.

@@ -61,6 +61,9 @@ pub struct Head<'a> {
     /// The `#` lines after the header (comments to the reader), with the key of those that
     /// read as `# key = value`.
     comments: Vec<(usize, Option<String>)>,
+    /// The `#` lines before the header that are not `# key = value` (free text other writers
+    /// keep there), with their text.
+    free: Vec<(usize, String)>,
 }
 
 impl<'a> Head<'a> {
@@ -68,29 +71,28 @@ impl<'a> Head<'a> {
         let mut meta = BTreeMap::new();
         let mut meta_at: BTreeMap<String, usize> = BTreeMap::new();
         let mut repeated = Vec::new();
+        let mut free = Vec::new();
         for (i, l) in text.lines().enumerate() {
-            // A byte-order mark, as spreadsheet programs write UTF-8, is not part of the text.
-            let l = if i == 0 {
-                l.strip_prefix('\u{FEFF}').unwrap_or(l)
-            } else {
-                l
-            };
+            // A byte-order mark, as spreadsheet programs write UTF-8, is not part of the text
+            // (nor a second one, as a program that adds its own to a file that has one writes).
+            let l = if i == 0 { l.trim_start_matches('\u{FEFF}') } else { l };
             let (n, t) = (i + 1, l.trim());
             if t.is_empty() {
                 continue;
             }
             let Some(m) = t.strip_prefix('#') else {
-                return Head::header(meta, meta_at, repeated, n, t, comments_after(text, n));
+                let head = Head::header(meta, meta_at, repeated, n, t, comments_after(text, n));
+                return head.map(|h| Head { free, ..h });
             };
             // A bare `#` sets the metadata apart; it says nothing.
             if m.trim().is_empty() {
                 continue;
             }
+            // Free text is a comment; a reader refuses it where it names a key it uses
+            // (`Head::known`).
             let Some((k, v)) = m.split_once('=') else {
-                return err(
-                    n,
-                    format!("metadata line without '=': '{t}' (expected '# key = value')"),
-                );
+                free.push((n, t.to_string()));
+                continue;
             };
             let (k, v) = (k.trim().to_string(), v.trim().to_string());
             if k.is_empty() {
@@ -141,6 +143,22 @@ impl<'a> Head<'a> {
             repeated_meta,
             repeated_cols,
             comments,
+            free: Vec::new(),
+        })
+    }
+
+    /// The `#` lines of free text before the header, skipped, said as a warning.
+    pub fn free_text(&self) -> Option<Error> {
+        let lines: Vec<usize> = self.free.iter().map(|f| f.0).collect();
+        let (first, text) = self.free.first()?;
+        Some(Error {
+            line: *first,
+            what: format!(
+                "free text before the header ('{text}'{} on line{} {}): a '#' line there that is not '# key = value' is a comment, skipped",
+                if lines.len() > 1 { " and more" } else { "" },
+                if lines.len() > 1 { "s" } else { "" },
+                crate::noise_fit::lines_text(&lines),
+            ),
         })
     }
 
@@ -152,6 +170,12 @@ impl<'a> Head<'a> {
     /// A metadata key or a column the reader uses may be given once only; the others it
     /// ignores, repeated or not.
     pub fn known(&self, keys: &[&str], columns: &[&str]) -> Result<(), Error> {
+        if let Some((n, t)) = self.free.iter().find(|(_, t)| keys.iter().any(|k| names_key(t, k))) {
+            return err(
+                *n,
+                format!("metadata line without '=': '{t}' (expected '# key = value')"),
+            );
+        }
         if let Some((k, first, n)) = self.repeated_meta.iter().find(|r| keys.contains(&r.0.as_str())) {
             return err(
                 *n,
@@ -181,14 +205,20 @@ impl<'a> Head<'a> {
     /// Where a missing metadata key is written all the same: in another case before the
     /// header, or after the header, where a `#` line is a comment. Empty when nowhere.
     pub fn misplaced(&self, text: &str, key: &str) -> String {
+        if let Some((n, t)) = self.free.iter().find(|(_, t)| names_key(t, key)) {
+            return format!("; line {n} '{t}' has no '=' (expected '# {key} = value')");
+        }
         let found = text.lines().enumerate().find_map(|(i, l)| {
             let (k, _) = l.trim().strip_prefix('#')?.split_once('=')?;
-            let k = k.trim();
+            let k = k.trim().trim_start_matches('#').trim();
             k.eq_ignore_ascii_case(key).then_some((i + 1, k))
         });
         match found {
             Some((n, k)) if n > self.line => {
                 format!("; line {n} has '{k}' after the header, where '#' lines are comments")
+            }
+            Some((n, k)) if k == key => {
+                format!("; line {n} has it after more than one '#' (expected '# {key} = value')")
             }
             Some((n, k)) => format!("; line {n} has '{k}' (keys are case-sensitive)"),
             None => String::new(),
@@ -312,6 +342,36 @@ impl<'a> Head<'a> {
     }
 }
 
+/// Whether the free text of a `#` line starts with `key` as a word, as `# key value` or
+/// `# key: value` would: metadata written without its `=`.
+fn names_key(text: &str, key: &str) -> bool {
+    let word = text
+        .trim_start_matches('#')
+        .split([' ', '\t', ':'])
+        .find(|w| !w.is_empty());
+    word.is_some_and(|w| w.eq_ignore_ascii_case(key))
+}
+
+/// The warning for a text whose last line, a row (`row` names it), has no line end: a file cut
+/// while it was written ends so, its last value perhaps cut short. The lines are counted only
+/// then: a million-row file is not read again to no end.
+pub fn unended(text: &str, row: &str, last_row_line: impl FnOnce() -> Option<usize>) -> Option<Error> {
+    if text.is_empty() || text.ends_with('\n') {
+        return None;
+    }
+    let line = text.lines().count();
+    if last_row_line()? != line {
+        return None;
+    }
+    let last = text.lines().last()?.rsplit(',').next()?.trim();
+    Some(Error {
+        line,
+        what: format!(
+            "the last {row} has no line end: a file cut short while it was written ends so, its last value ('{last}') perhaps cut too; read as it stands"
+        ),
+    })
+}
+
 /// The `#` lines after the header on line `header`, with the key of each that reads as
 /// `# key = value`.
 fn comments_after(text: &str, header: usize) -> Vec<(usize, Option<String>)> {
@@ -372,6 +432,10 @@ pub fn read_text(path: &str) -> Result<String, Error> {
         std::fs::read(path)
     };
     match bytes {
+        Ok(bytes) if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) => err(
+            1,
+            "the file is UTF-16 text (it starts with that encoding's byte-order mark); the format is UTF-8: save it as UTF-8",
+        ),
         Ok(bytes) => {
             let text = String::from_utf8_lossy(&bytes).into_owned();
             Ok(if text.contains('\r') && !text.contains('\n') {
@@ -471,10 +535,27 @@ mod tests {
         );
         let bare = Head::parse("#\n# format = x/1\n#   \nt_s\n").unwrap();
         assert_eq!((bare.line, bare.meta_line("format")), (4, 2));
+        // Free text before the header is a comment, unless it names a key the reader uses.
+        let free = Head::parse("# recorded by rig 4\n# latitude_deg: 43.8\nt_s\n").unwrap();
         assert_eq!(
-            Head::parse("# latitude_deg\nt_s\n").unwrap_err().to_string(),
-            "line 1: metadata line without '=': '# latitude_deg' (expected '# key = value')"
+            free.free_text().unwrap().to_string(),
+            "line 1: free text before the header ('# recorded by rig 4' and more on lines 1, 2): a '#' line there that is not '# key = value' is a comment, skipped"
         );
+        assert!(free.known(&["format"], &[]).is_ok());
+        assert_eq!(
+            free.known(&["latitude_deg"], &[]).unwrap_err().to_string(),
+            "line 2: metadata line without '=': '# latitude_deg: 43.8' (expected '# key = value')"
+        );
+        assert_eq!(
+            free.misplaced("", "latitude_deg"),
+            "; line 2 '# latitude_deg: 43.8' has no '=' (expected '# latitude_deg = value')"
+        );
+        let hashes = "## format = x/1\nt_s\n";
+        assert_eq!(
+            Head::parse(hashes).unwrap().misplaced(hashes, "format"),
+            "; line 1 has it after more than one '#' (expected '# format = value')"
+        );
+        assert_eq!(Head::parse("t_s\n").unwrap().free_text(), None);
         let tabs = Head::parse("# format = x/1\nt_s\trate_dph\n").unwrap();
         assert!(
             tabs.require_columns(&["t_s"])
@@ -530,6 +611,8 @@ mod tests {
             "line 4: column 'x' appears twice"
         );
         assert_eq!(h.meta_line("a"), 3);
+        let twice = Head::parse("\u{FEFF}\u{FEFF}# format = x/1\nt_s\n").unwrap();
+        assert_eq!(twice.meta["format"], "x/1");
         let bom = Head::parse("\u{FEFF}# format = x/1\nt_s\n").unwrap();
         assert!(bom.require_format("", "x/1").is_ok());
         assert_eq!(Head::parse("\u{FEFF}t_s,x\n").unwrap().col("t_s"), Some(0));
@@ -592,5 +675,17 @@ mod tests {
         let h = Head::parse(&text).unwrap();
         assert_eq!(h.names, ["t_s", "rate_dph"]);
         assert_eq!(h.rows(&text).map(Result::unwrap).map(|r| r.0).collect::<Vec<_>>(), [3]);
+    }
+
+    #[test]
+    fn a_last_row_without_its_line_end_is_said_with_its_value() {
+        let cut = "t_s,rate_dph\n0,1.5\n0.1,-2";
+        assert_eq!(
+            unended(cut, "sample", || Some(3)).unwrap().to_string(),
+            "line 3: the last sample has no line end: a file cut short while it was written ends so, its last value ('-2') perhaps cut too; read as it stands"
+        );
+        assert_eq!(unended(&format!("{cut}\n"), "sample", || Some(3)), None);
+        // A last line that is no row (a comment) cuts no value.
+        assert_eq!(unended("t_s\n0\n# end", "sample", || Some(2)), None);
     }
 }

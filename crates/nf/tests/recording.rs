@@ -126,7 +126,11 @@ fn every_bad_recording_names_the_line_and_the_problem() {
             1,
             "no north to find",
         ),
-        ("# format = northfinder-recording/1\n# latitude_deg\n", 2, "without '='"),
+        (
+            "# format = northfinder-recording/1\n# latitude_deg\nindex,t_s,encoder_deg,rate_dph\n",
+            2,
+            "without '='",
+        ),
         (
             "# format = northfinder-recording/1\n# format = northfinder-recording/2\nindex\n",
             2,
@@ -218,7 +222,8 @@ fn a_last_position_without_its_line_end_is_read_with_a_warning() {
     let said: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(said.len(), 1, "{said:?}");
     assert!(
-        said[0].starts_with("line 8: the last position has no line end"),
+        said[0].starts_with("line 8: the last position has no line end")
+            && said[0].contains("its last value ('-0.001') perhaps cut too"),
         "{said:?}"
     );
     assert!(Recording::parse(GOOD).unwrap().warnings.is_empty());
@@ -391,6 +396,41 @@ fn a_missing_file_says_so() {
         e.at("/nonexistent/run.csv")
             .starts_with("/nonexistent/run.csv: cannot read it: "),
         "{e}"
+    );
+}
+
+#[test]
+fn utf16_is_refused_by_name() {
+    let dir = std::env::temp_dir().join(format!("nf-utf16-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run.csv");
+    let mut bytes = vec![0xFF, 0xFE];
+    bytes.extend(GOOD.encode_utf16().flat_map(u16::to_le_bytes));
+    std::fs::write(&path, &bytes).unwrap();
+    let e = Recording::read(path.to_str().unwrap()).unwrap_err();
+    assert_eq!(e.line, 1);
+    assert!(e.to_string().contains("UTF-16"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn free_text_before_the_header_is_a_comment_unless_it_names_a_key() {
+    let text = format!("# recorded by rig 4\n{GOOD}");
+    let r = Recording::parse(&text).unwrap();
+    assert_eq!(r.rows.len(), 4);
+    assert_eq!(r.warnings.len(), 1);
+    assert!(
+        r.warnings[0]
+            .to_string()
+            .starts_with("line 1: free text before the header")
+    );
+    let (l, msg) = error(&GOOD.replace("unit 2\n", "unit 2\n# dwell_s 2\n"));
+    assert_eq!(
+        (l, msg.as_str()),
+        (
+            4,
+            "line 4: metadata line without '=': '# dwell_s 2' (expected '# key = value')"
+        )
     );
 }
 
