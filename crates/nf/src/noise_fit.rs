@@ -97,6 +97,10 @@ impl NoiseSource {
                         "; sigma scaled by {:.2} as {} replicates drawn from the estimate showed",
                         c.psi, c.replicates
                     ),
+                    None if *one_in > 1 => format!(
+                        "; sigma not calibrated by replicates (past {} positions, as in `nf diagnose`)",
+                        noise_est::THINNED
+                    ),
                     None => "; sigma not calibrated by replicates".into(),
                 };
                 let means = match one_in {
@@ -437,6 +441,9 @@ pub(crate) fn gaussian(data: &Data<'_>, colours: Colours, replicates: usize) -> 
         estimate(data.clone(), colours).ok_or("the noise model could not be estimated from the recording")?;
     let j = judge(&e).ok_or("no noise model fits")?;
     let judge_replica = |d: Data<'_>| estimate(d, colours).and_then(|(e, _)| judge(&e)).map(|j| j.verdict);
+    // As `nf diagnose`'s: a run thinned for its noise estimate is not calibrated (its
+    // replicates would cost a minute at 10^5 positions).
+    let replicates = if one_in > 1 { 0 } else { replicates };
     let calibration = noise_calib::calibrate(data, &j.model, &j.coef, &j.verdict, replicates, judge_replica);
     Ok(Gaussian {
         verdict: j.verdict.calibrated(calibration),

@@ -20,15 +20,6 @@ fn error_arcsec(psi_deg: f64) -> f64 {
     wrap_180(psi_deg - PSI_DEG) * 3600.0
 }
 
-/// `nf fit` without the bootstrap: its replicates would cost a long run's noise estimate
-/// each.
-fn without_replicates() -> analysis::Options {
-    analysis::Options {
-        replicates: 0,
-        ..analysis::Options::default()
-    }
-}
-
 /// A sequential run turning 0.5 deg per position, 1 s dwells 1.2 s apart, white noise and a
 /// rate random walk, in the recording format.
 fn walk_run(n: usize, seed: u64) -> Recording {
@@ -104,12 +95,18 @@ fn a_long_white_runs_final_sigma_stays_near_the_bound() {
 
 #[test]
 fn nf_fit_of_a_long_random_walk_run_estimates_from_a_thinned_series_and_fits_every_row() {
-    let opt = without_replicates();
+    // The default options: past 2000 positions no replicates are drawn (each would cost a
+    // long run's noise estimate), as in `nf diagnose`.
+    let opt = analysis::Options::default();
     let (mut z2, runs) = (0.0, 4);
     for seed in 0..runs {
         let g = analyse(&walk_run(6000, 60 + seed), &opt).unwrap().gls;
         let source = g.source.describe();
         assert!(source.contains("one in 3 of the dwell means"), "{source}");
+        assert!(
+            source.contains("not calibrated by replicates (past 2000 positions"),
+            "{source}"
+        );
         // Every row is fitted: the dof of the whitened residuals are those of 6000 positions.
         assert_eq!(g.dof, 6000 - 3);
         let err = error_arcsec(g.psi_deg);
@@ -144,7 +141,7 @@ fn shocked_run(n: usize, seed: u64) -> (Recording, Vec<bool>) {
 
 #[test]
 fn nf_fit_of_a_long_shocked_run_goes_through_the_shocks() {
-    let opt = without_replicates();
+    let opt = analysis::Options::default();
     let (mut z2, runs) = (0.0, 3);
     for seed in 0..runs {
         let (rec, truth) = shocked_run(3000, 80 + seed);
