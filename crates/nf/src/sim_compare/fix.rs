@@ -11,6 +11,7 @@ use super::thermometer;
 use crate::diagnose::{Diagnosis, Kind};
 use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise, Shocks};
 use crate::recording::Recording;
+use nf_model::noise::NoiseModel;
 use nf_twin::WindowShift;
 
 /// Sets one effect to the recording's fit; what was done, or why not.
@@ -357,20 +358,54 @@ pub fn noise(
         f.noise.arw_deg_rth *= r / s;
         notes.push(format!("noise: angle random walk times {:.4} (the {q})", r / s));
     } else if noise_named || cmp.any(Quantity::is_scatter) {
-        let tails = f.noise.student_t_dof;
-        f.noise = Noise::of(&noise_of(diag));
-        f.noise.student_t_dof = tails;
         let how = if noise_of(diag) == diag.noise_model {
             ""
         } else {
             ", made with the named effects in the design"
         };
-        notes.push(format!("noise: the recording's estimate ({}{how})", diag.noise_source));
-        if let Some(n) = white_from_samples(&mut f, file, cmp) {
-            notes.push(n);
-        }
+        let what = format!("the recording's estimate ({}{how})", diag.noise_source);
+        return with_noise(file, cmp, &noise_of(diag), &what);
     }
     (f, notes)
+}
+
+/// `file` with its noise model replaced by `model` (`what` names it; the white level from
+/// the samples' spread where `cmp` has it), the file's tails kept.
+pub fn with_noise(
+    file: &InstrumentFile,
+    cmp: &Comparison,
+    model: &NoiseModel,
+    what: &str,
+) -> (InstrumentFile, Vec<String>) {
+    let mut f = file.clone();
+    f.noise = Noise {
+        student_t_dof: f.noise.student_t_dof,
+        ..Noise::of(model)
+    };
+    let mut notes = vec![format!("noise: {what}")];
+    notes.extend(white_from_samples(&mut f, file, cmp));
+    (f, notes)
+}
+
+/// The recording's wander as `diag` estimated it, where it wanders beyond `file`'s noise (a
+/// flicker, walk or Gauss-Markov term larger than the file's), and what it is: its estimate
+/// with the named effects in the design, else the most coloured model its likelihood allows.
+pub fn wander(diag: &Diagnosis, file: &InstrumentFile) -> Option<(NoiseModel, &'static str)> {
+    let n = &file.noise;
+    let beyond = |m: &NoiseModel| {
+        m.bias_instability_dph > n.bias_instability_dph
+            || m.rrw_dph_rth > n.rrw_dph_rth
+            || m.gm_sigma_dph > n.gm_sigma_dph
+    };
+    [
+        (noise_of(diag), "the recording's estimate"),
+        (
+            diag.cautious_model,
+            "the most coloured noise model the recording allows",
+        ),
+    ]
+    .into_iter()
+    .find(|(m, _)| beyond(m))
 }
 
 /// A bias change `db` as the gyro axis's elevation would make it, through the Earth rate's
