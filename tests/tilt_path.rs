@@ -108,6 +108,19 @@ fn fit_and_diagnose_agree_and_find_north_at_every_tilt_and_latitude() {
             assert_eq!(fit.tilt_warning, None, "{at}");
             let diag = diagnose(&rec, &diagnose::Options::default()).unwrap_or_else(|e| panic!("{case}: {e}"));
             let at = format!("tilt {tilt} deg, lat {lat}: {case}");
+            // One axis read alone is said where the tilt is.
+            let said = |axis: &str| {
+                diag.findings
+                    .iter()
+                    .any(|f| f.effect == Kind::ShaftTilt && f.location.contains(&format!("from the {axis} axis alone")))
+            };
+            if tilt > 0.0 {
+                assert_eq!(
+                    (said("X"), said("Y")),
+                    (case == "tilt_x alone", case == "tilt_y alone"),
+                    "{at}"
+                );
+            }
             // Without findings diagnose's fit is nf fit's under the noise: the same tilt path.
             if diag
                 .findings

@@ -51,11 +51,22 @@ impl ShaftTilt {
                 }
             }
         }
+        // One axis read alone is said: its circle holds the tilt, not the other's offset.
+        let read = |y: bool| {
+            rec.rows
+                .iter()
+                .any(|r| if y { r.tilt_y_deg } else { r.tilt_x_deg }.is_some())
+        };
+        let axes = match (read(false), read(true)) {
+            (true, false) => ", from the X axis alone: no tilt_y_deg readings",
+            (false, true) => ", from the Y axis alone: no tilt_x_deg readings",
+            _ => "",
+        };
         Ok(Some(ShaftTilt {
             p: t.circle_test.map_or(1.0, |c| c.p),
             parameters,
             location: format!(
-                "the inclinometer's tilt circle ({}; {} positions bridged); a first harmonic of the gyro, invisible in its residuals",
+                "the inclinometer's tilt circle ({}{axes}; {} positions bridged); a first harmonic of the gyro, invisible in its residuals",
                 method.name(),
                 t.bridged
             ),
