@@ -104,6 +104,8 @@ struct Solution {
     iterations: u32,
     psi_deg: f64,
     sensitivity: Sensitivity,
+    /// Whether the gyro's scale was taken as 1 ([`unit_scale`]), not fitted.
+    scale_one: bool,
 }
 
 /// The tilt circle as fitted: its coefficients and the covariance of its first harmonic.
@@ -286,8 +288,20 @@ pub fn correct(
             let read =
                 |r: &crate::recording::Row| r.tilt_x_deg.is_some() || (warning.is_none() && r.tilt_y_deg.is_some());
             let bridged = rec.rows.iter().filter(|r| !read(r)).count();
-            let s = solve(lat, &gammas, &c.shaft, &mut fit, true)?;
-            let sigma_psi_deg = circle_sigma_deg(lat, &gammas, &c, &mut fit, s.psi_deg);
+            let s = solve(lat, &gammas, &c.shaft, &mut fit, true, false)?;
+            let sigma_psi_deg = circle_sigma_deg(lat, &gammas, &c, &mut fit, &s);
+            let ratio = vertical_ratio(lat, c.shaft.tilt_deg);
+            let scale_one = s.scale_one.then(|| {
+                format!(
+                    "the exact tilt correction with the gyro's scale fitted beside the azimuth did not converge (at a tilt of {:.2} deg and latitude {lat} deg the vertical Earth rate the tilt adds is {ratio:.2} times the horizontal one, and both scale with the gyro's scale factor): the scale is taken as 1, and a scale off by 0.1 % moves this azimuth by {:.0}\", which the sigma does not hold",
+                    c.shaft.tilt_deg,
+                    1e-3 * ratio * 180.0 / std::f64::consts::PI * 3600.0
+                )
+            });
+            let warning = match (warning, scale_one) {
+                (Some(w), Some(o)) => Some(format!("{w}; {o}")),
+                (w, o) => w.or(o),
+            };
             Ok(Tilt {
                 corrections: s.corrections,
                 shaft: Some(c.shaft),
@@ -304,13 +318,15 @@ pub fn correct(
 }
 
 /// The exact correction for the tilt `t`, with the azimuth and amplitude it leaves, and its
-/// sensitivity where `carry` asks for it (two more fits).
+/// sensitivity where `carry` asks for it (two more fits); the gyro's scale taken as 1 where
+/// `unit`, or where its fit beside the azimuth does not converge.
 fn solve(
     lat: f64,
     gammas: &[f64],
     t: &ShaftTilt<f64>,
     fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
     carry: bool,
+    unit: bool,
 ) -> Result<Solution, String> {
     // Start from first order (the circle's X at each position), then solve the exact model
     // with the fitted azimuth and scale.
@@ -319,6 +335,10 @@ fn solve(
         .map(|&g| vertical_earth_rate_dph(lat, circle_x_deg(t, g)))
         .collect();
     let (mut psi, mut amp) = fit(&corr)?;
+    let start_psi = psi;
+    if unit {
+        return unit_scale(lat, gammas, t, fit, carry, start_psi);
+    }
     // No Earth rate to scale the exact correction by (constant rates, a dead gyro): where
     // Newton then fails, the fit says it is not resolved, and first order is as good as any.
     let no_earth_rate = !amplitude_is_earth_rate(amp, 0.0, amplitude_dph(lat));
@@ -363,11 +383,11 @@ fn solve(
         psi += dp.clamp(-30.0, 30.0);
         amp = (amp + da).max(1e-9);
     }
-    let (iterations, corrections, psi, amp, g) = match (converged, closest) {
-        (Some(found), _) => found,
+    let found = match (converged, closest) {
+        (Some(found), _) => Some(found),
         (None, Some((d, corrections, psi, amp))) if d < NEAR_ENOUGH_DEG => {
             let (g, _) = eval(psi, amp)?;
-            (MAX_ITERATIONS, corrections, psi, amp, g)
+            Some((MAX_ITERATIONS, corrections, psi, amp, g))
         }
         _ if no_earth_rate => {
             let (corrections, psi_deg, _) = first_order;
@@ -376,15 +396,13 @@ fn solve(
                 iterations: MAX_ITERATIONS,
                 psi_deg,
                 sensitivity: Sensitivity::NONE,
+                scale_one: false,
             });
         }
-        _ => {
-            return Err(format!(
-                "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations: at a tilt of {:.2} deg and latitude {lat} deg the vertical Earth rate the tilt adds is {:.2} times the horizontal one, and both scale with the gyro's scale factor, which the exact correction fits: the azimuth and the scale are then hardly separable. --tilt first-order takes the scale as 1",
-                t.tilt_deg,
-                t.tilt_deg.to_radians().sin() * lat.to_radians().tan().abs()
-            ));
-        }
+        _ => None,
+    };
+    let Some((iterations, corrections, psi, amp, g)) = found else {
+        return unit_scale(lat, gammas, t, fit, carry, start_psi);
     };
     let sensitivity = if carry {
         carried(jacobian(&mut eval, psi, amp, g)?)
@@ -396,7 +414,60 @@ fn solve(
         iterations,
         psi_deg: psi + g[0],
         sensitivity,
+        scale_one: false,
     })
+}
+
+/// The exact correction with the gyro's scale taken as 1 (the correction's amplitude the
+/// latitude's `WE cos(lat)`), the azimuth alone iterated from `psi`: near the pole at a large
+/// tilt the vertical Earth rate the tilt adds outweighs the horizontal one, both scale with
+/// the gyro's scale factor, and the fit of the scale beside the azimuth may not converge.
+fn unit_scale(
+    lat: f64,
+    gammas: &[f64],
+    t: &ShaftTilt<f64>,
+    fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
+    carry: bool,
+    mut psi: f64,
+) -> Result<Solution, String> {
+    let amp = amplitude_dph(lat);
+    let mut eval = |psi: f64| -> Result<(f64, Vec<f64>), String> {
+        let corr = exact_tilt_correction(lat, psi, amp, t, gammas);
+        Ok((wrap_180(fit(&corr)?.0 - psi), corr))
+    };
+    const STEP_DEG: f64 = 1e-6;
+    for k in 1..=MAX_ITERATIONS {
+        let (g, corrections) = eval(psi)?;
+        let slope = (eval(psi + STEP_DEG)?.0 - g) / STEP_DEG;
+        if g.abs() < PSI_TOL_DEG {
+            // G = F - 1: a fit's azimuth error is carried as 1 / (1 - F') = -1 / G'.
+            let m = if carry { -1.0 / slope } else { 1.0 };
+            return Ok(Solution {
+                corrections,
+                iterations: k,
+                psi_deg: psi + g,
+                sensitivity: Sensitivity([[m, 0.0], [0.0, 1.0]]),
+                scale_one: true,
+            });
+        }
+        let step = if slope.is_finite() && slope.abs() > 1e-12 {
+            -g / slope
+        } else {
+            g
+        };
+        psi += step.clamp(-30.0, 30.0);
+    }
+    Err(format!(
+        "the exact tilt correction did not converge in {MAX_ITERATIONS} iterations, with the gyro's scale fitted or taken as 1: at a tilt of {:.2} deg and latitude {lat} deg the vertical Earth rate the tilt adds is {:.2} times the horizontal one",
+        t.tilt_deg,
+        vertical_ratio(lat, t.tilt_deg)
+    ))
+}
+
+/// The vertical Earth rate a tilt `eta` adds to the first harmonic over the horizontal one,
+/// `sin(eta) tan|lat|`: also the radians a relative scale error moves the azimuth by, per unit.
+fn vertical_ratio(lat: f64, tilt_deg: f64) -> f64 {
+    tilt_deg.to_radians().sin() * lat.to_radians().tan().abs()
 }
 
 /// The Jacobian of `G` at `(psi, amp)`, where it is `g`, by differences.
@@ -434,8 +505,9 @@ fn circle_sigma_deg(
     gammas: &[f64],
     c: &Circle,
     fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
-    psi: f64,
+    at: &Solution,
 ) -> f64 {
+    let psi = at.psi_deg;
     let h = [c.cov[0][0].sqrt(), c.cov[1][1].sqrt()];
     let mut slope = [0.0; 2];
     for k in 0..2 {
@@ -443,7 +515,7 @@ fn circle_sigma_deg(
             continue;
         }
         let moved = c.moved(if k == 0 { h[k] } else { 0.0 }, if k == 1 { h[k] } else { 0.0 });
-        match solve(lat, gammas, &moved, fit, false) {
+        match solve(lat, gammas, &moved, fit, false, at.scale_one) {
             Ok(s) => slope[k] = wrap_180(s.psi_deg - psi) / h[k],
             // To first order either coefficient turns the azimuth by tan(lat) radians.
             Err(_) => return lat.to_radians().tan().abs() * (0.5 * (c.cov[0][0] + c.cov[1][1])).sqrt().to_degrees(),

@@ -300,12 +300,13 @@ fn measure_tilt(d: &Data, white: &Whitener) -> Result<Option<ShaftTilt>, String>
 
 /// The catalogue's effects, the shaft tilt among them where it was measured.
 fn catalogue(tilt: Option<ShaftTilt>) -> Vec<Box<dyn Effect>> {
+    let sensitivity = tilt.as_ref().map_or(Sensitivity::NONE, |t| t.sensitivity);
     let mut effects: Vec<Box<dyn Effect>> = vec![
         Box::new(drift::BiasDrift),
         Box::new(jump::BiasJump),
         Box::new(thermal::ThermalDrift),
         Box::new(encoder::EncoderError),
-        Box::new(scale::ScaleFactor),
+        Box::new(scale::ScaleFactor { sensitivity }),
         Box::new(nonlinearity::Nonlinearity),
         Box::new(settling::SettlingTransient),
         Box::new(outliers::Outliers),
