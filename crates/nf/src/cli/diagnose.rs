@@ -4,7 +4,7 @@ use super::noise_args::{NoiseArgs, STATIC_LOG_HINT, colour_text};
 use super::spinner::spinning;
 use super::suite_keep::Keeper;
 use super::{Fail, angle5, diagnose_sim, read_recording, write_out};
-use crate::diagnose::{Diagnosis, Options, Point, diagnose};
+use crate::diagnose::{Diagnosis, Kind, Options, Point, diagnose};
 use crate::diagnose_eval::{self, EvalOptions};
 use crate::instrument_file::InstrumentFile;
 use crate::noise_calib;
@@ -374,7 +374,8 @@ fn write_text(out: &mut impl Write, d: &Diagnosis) -> std::io::Result<()> {
                 None => writeln!(out, "     {} = {:.6}", p.name, p.value)?,
             }
         }
-        if !f.effect.is_noise() {
+        // Structure left unexplained changes no fit: a "with it" would read as a model's.
+        if !f.effect.is_noise() && f.effect != Kind::Unexplained {
             writeln!(
                 out,
                 "     with it: psi {} deg +- {:.2}\" ({:+.2}\" from the baseline)",
