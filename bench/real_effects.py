@@ -18,7 +18,8 @@ white least squares' RMS error/sigma over the recordings resolved, and how many 
 unresolved. `--positions` cycles through other run sizes; `--short`
 writes the window's sample spread (`rate_sd_dph`, `samples`) or nothing in place of the
 quarter means. `--keep DIR` keeps the recordings whose final is worse than the baseline or beyond 3 sigma;
-the shaft tilt is 0.002 deg unless `TILT_DEG` says otherwise.
+the shaft tilt is 0.002 deg unless `TILT_DEG` says otherwise; `NO_TEMP=1` leaves the temperature
+column out.
 
 The physics, written here apart from the twin: the gyro axis and the inclinometer's Y axis
 turned by the shaft tilt about a horizontal axis (Rodrigues), the rate the Earth rate along
@@ -34,6 +35,8 @@ WE, DWELL, SPACING, S = 15.041, 1.0, 1.35, 0.01
 SHORT_COLS = {"quarters": ["q1_dph", "q2_dph", "q3_dph", "q4_dph"], "spread": ["rate_sd_dph", "samples"], "none": []}
 SHORT = "quarters"
 POSITIONS = [36, 48, 72]
+# `NO_TEMP=1`: the temperature column left out (its bias cycle stays where concealed).
+NO_TEMP = os.environ.get("NO_TEMP") == "1"
 EFFECTS = ["clean", "bias_drift", "bias_jump", "thermal_drift", "shaft_tilt", "encoder_error",
            "scale_factor", "nonlinearity", "settling_transient", "outliers"]
 
@@ -86,7 +89,8 @@ def write(path, noise, per_s, n, pairs, effect, rng):
     bad = int(rng.integers(n))
     sign = rng.choice([-1, 1])
     q_len = int(DWELL * per_s / 4)
-    cols = ["index", "t_s", "encoder_deg", "rate_dph"] + SHORT_COLS[SHORT] + ["temp_c", "tilt_x_deg", "tilt_y_deg"]
+    temp_col = [] if NO_TEMP else ["temp_c"]
+    cols = ["index", "t_s", "encoder_deg", "rate_dph"] + SHORT_COLS[SHORT] + temp_col + ["tilt_x_deg", "tilt_y_deg"]
     lines = ["# format = northfinder-recording/1", f"# latitude_deg = {lat:.5f}",
              f"# dwell_s = {DWELL}", ",".join(cols)]
     for i, g in enumerate(gammas):
@@ -124,7 +128,7 @@ def write(path, noise, per_s, n, pairs, effect, rng):
         short = {"quarters": [f"{x:.8f}" for x in q], "spread": [f"{seg.std(ddof=1):.8f}", str(len(seg))],
                  "none": []}[SHORT]
         row = [str(i), f"{t:.3f}", f"{enc:.6f}", f"{q.mean():.8f}"] + short
-        row += [f"{temp:.4f}", f"{tx:.6f}", f"{ty:.6f}"]
+        row += ([] if NO_TEMP else [f"{temp:.4f}"]) + [f"{tx:.6f}", f"{ty:.6f}"]
         lines.append(",".join(row))
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -374,6 +374,39 @@ fn a_few_missing_temperatures_are_bridged_and_the_thermal_drift_still_named() {
     assert!(first >= 7, "thermal drift named first in {first} of {runs}");
 }
 
+#[test]
+fn a_temperature_cycle_without_its_temperature_is_named_a_thermal_drift_s_cycle() {
+    // No temp_c column: an encoder error, a curved drift and a scale factor together took a
+    // heater's cycle in a sweep, the final 5-9 sigma off (two outside audits). Cycles a
+    // run at least 0.3 from a whole number: nearer, the encoder harmonic of that number holds
+    // 95 % of the cycle and takes it (docs/diagnose.md).
+    let cycles_per_run = [2.3, 2.5, 2.7, 3.3, 3.5, 3.7, 4.3, 4.5];
+    let (mut first, mut z2, runs) = (0, 0.0, cycles_per_run.len());
+    for (seed, cycles) in (0..).zip(cycles_per_run) {
+        let twin = temperature_cycle(400 + seed, cycles, 8.0);
+        let mut rec = recording(&twin);
+        for r in &mut rec.rows {
+            r.temp_c = None;
+        }
+        let d = diagnose(&rec, &Options::default()).unwrap();
+        let f = first_effect(&d);
+        if f.effect == Kind::ThermalDrift {
+            first += 1;
+            let period = f.parameters.iter().find(|p| p.name == "cycle_period_s").unwrap().value;
+            assert!(
+                (period * cycles / 67.0 - 1.0).abs() < 0.1,
+                "seed {seed}: period {period}"
+            );
+        }
+        let err = nf_model::angle::wrap_180(d.final_.azimuth_deg - twin.instrument.psi_deg) * 3600.0;
+        z2 += (err / d.final_.sigma_arcsec).powi(2);
+    }
+    let rms = (z2 / runs as f64).sqrt();
+    println!("named first {first} of {runs}, RMS error/sigma {rms:.2}");
+    assert!(first >= 7, "thermal drift named first in {first} of {runs}");
+    assert!(rms < 1.5, "RMS error/sigma {rms}");
+}
+
 /// 48 dwells of 1 s at 24 angles, each angle dwelt at twice running (no move between), white
 /// noise of 0.01 deg/h per quarter; the first quarter of the dwells `excess` picks is 0.03
 /// deg/h high.

@@ -195,7 +195,7 @@ pub fn diagnose(rec: &Recording, opt: &Options) -> Result<Diagnosis, String> {
         .as_ref()
         .map(|t| t.corrections.clone())
         .unwrap_or_else(|| vec![0.0; d.n()]);
-    let effects = catalogue(tilt);
+    let effects = catalogue(&d, tilt);
     let selection_started = std::time::Instant::now();
     let sel = Selector {
         data: &d,
@@ -299,12 +299,12 @@ fn measure_tilt(d: &Data, white: &Whitener) -> Result<Option<ShaftTilt>, String>
 }
 
 /// The catalogue's effects, the shaft tilt among them where it was measured.
-fn catalogue(tilt: Option<ShaftTilt>) -> Vec<Box<dyn Effect>> {
+fn catalogue(d: &Data, tilt: Option<ShaftTilt>) -> Vec<Box<dyn Effect>> {
     let sensitivity = tilt.as_ref().map_or(Sensitivity::NONE, |t| t.sensitivity);
     let mut effects: Vec<Box<dyn Effect>> = vec![
         Box::new(drift::BiasDrift),
         Box::new(jump::BiasJump),
-        Box::new(thermal::ThermalDrift),
+        Box::new(thermal::ThermalDrift::new(d)),
         Box::new(encoder::EncoderError),
         Box::new(scale::ScaleFactor { sensitivity }),
         Box::new(nonlinearity::Nonlinearity),

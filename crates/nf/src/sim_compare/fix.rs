@@ -4,7 +4,7 @@
 //! inclinometer and the thermometer moved onto the recording's.
 
 use super::compare::Comparison;
-use super::physics::{Physics, Verdict, middle_s, noise_of, param};
+use super::physics::{CYCLE_AMPLITUDE, Physics, Verdict, middle_s, noise_of, param};
 use super::plan;
 use super::profile::Quantity;
 use super::thermometer;
@@ -34,6 +34,17 @@ fn set(file: &mut InstrumentFile, p: &Physics, rec: &Recording, dwell_s: f64, or
                 time_s: v("time_s") + origin_s,
                 size_dph: v("size_dph"),
             });
+        }
+        // A cycle found without a recorded temperature is a heater's swing of 1 C.
+        Kind::ThermalDrift if !remove && param(&p.found, CYCLE_AMPLITUDE).is_some() => {
+            let t = &mut file.temperature;
+            let period = v("cycle_period_s");
+            (t.swing_c, t.swing_period_s, t.bias_dph_per_c) = (1.0, period, v(CYCLE_AMPLITUDE));
+            // The phase is on the recording's clock from its first dwell: the file's runs from
+            // its origin.
+            let first = rec.rows.iter().map(|r| r.t_s).fold(f64::INFINITY, f64::min);
+            let turned = v("cycle_phase_deg") - 360.0 * (first + origin_s) / period;
+            t.swing_phase_deg = turned.rem_euclid(360.0);
         }
         Kind::ThermalDrift => file.temperature.bias_dph_per_c = if remove { 0.0 } else { v("dph_per_degc") },
         Kind::ShaftTilt if remove => file.shaft.tilt_deg = 0.0,

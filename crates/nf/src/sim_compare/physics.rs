@@ -77,6 +77,9 @@ pub fn shock_rms(file: &InstrumentFile, dwell_s: f64) -> f64 {
     })
 }
 
+/// A thermal drift found without a recorded temperature: the amplitude of the bias's cycle.
+pub const CYCLE_AMPLITUDE: &str = "cycle_amplitude_dph";
+
 /// The run's middle time, s (where the diagnosis takes the drift's slope).
 pub fn middle_s(rec: &Recording) -> f64 {
     let (lo, hi) = rec.rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
@@ -102,6 +105,11 @@ fn simulated(
             file.drift.linear_dph_per_s + 2.0 * file.drift.quadratic_dph_per_s2 * (middle_s(rec) + origin_s),
         ),
         Kind::BiasJump => ("size_dph", file.jump.map_or(0.0, |j| j.size_dph)),
+        // Without a recorded temperature the bias's cycle in time is what was found.
+        Kind::ThermalDrift if param(found, CYCLE_AMPLITUDE).is_some() => (
+            CYCLE_AMPLITUDE,
+            (file.temperature.bias_dph_per_c * file.temperature.swing_c).abs(),
+        ),
         Kind::ThermalDrift => ("dph_per_degc", file.temperature.bias_dph_per_c),
         Kind::ShaftTilt => ("tilt_deg", file.shaft.tilt_deg),
         Kind::EncoderError => (
