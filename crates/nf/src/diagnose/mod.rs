@@ -41,6 +41,7 @@ pub use kind::Kind;
 pub use model::Summary;
 pub use noise::SHOCK_RMS;
 pub use select::{Finding, Undecided};
+pub use thermal::CYCLE_AMPLITUDE;
 
 use crate::noise_calib;
 use crate::noise_fit::NoiseChoice;

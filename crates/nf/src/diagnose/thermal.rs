@@ -65,6 +65,8 @@ impl Effect for ThermalDrift {
     }
 }
 
+/// A thermal drift found without a recorded temperature: the amplitude of the bias's cycle.
+pub const CYCLE_AMPLITUDE: &str = "cycle_amplitude_dph";
 /// Frequencies tried per independent one (a quarter of the run's resolution).
 const OVERSAMPLED: f64 = 4.0;
 /// The most cycles a run a heater's cycle is sought at.
@@ -127,7 +129,7 @@ fn cycle(s: &State, cycles: &[(f64, [Vec<f64>; 2])]) -> Option<Proposal> {
         p: (p * independent).min(1.0),
         change: Change::Columns(cols.to_vec()),
         parameters: vec![
-            param("cycle_amplitude_dph", amplitude, Some(sigma)),
+            param(CYCLE_AMPLITUDE, amplitude, Some(sigma)),
             param("cycle_period_s", 1.0 / f, None),
             // As `sin(2 pi t / period + phase)`, t from the first dwell.
             param("cycle_phase_deg", c.atan2(si).to_degrees(), None),
@@ -176,4 +178,34 @@ fn held_by_angle(angle: &[Vec<f64>], cycle: &[Vec<f64>; 2]) -> bool {
         total += c.iter().map(|v| v * v).sum::<f64>();
     }
     left < (1.0 - HELD_BY_ANGLE) * total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recording::Recording;
+
+    /// 48 positions 1.4 s apart at `gamma(i)`.
+    fn data(gamma: impl Fn(usize) -> f64) -> Data {
+        let mut text =
+            String::from("# format = northfinder-recording/1\n# latitude_deg = 40\nindex,t_s,encoder_deg,rate_dph\n");
+        for i in 0..48 {
+            text += &format!("{i},{},{},1.0\n", 1.4 * i as f64, gamma(i));
+        }
+        Data::new(&Recording::parse(&text).unwrap())
+    }
+
+    #[test]
+    fn a_sweep_leaves_the_cycles_of_whole_turns_to_the_angle_s_harmonics() {
+        let turn_s = 48.0 * 1.4;
+        let per_turn = |g: &[(f64, [Vec<f64>; 2])]| g.iter().map(|c| c.0 * turn_s).collect::<Vec<_>>();
+        let sweep = per_turn(&grid(&data(|i| 7.5 * i as f64)));
+        let near = |k: f64, w: f64| sweep.iter().any(|c| (c - k).abs() < w);
+        assert!(!near(2.0, 0.02) && !near(3.0, 0.02), "{sweep:?}");
+        assert!(near(2.5, 0.15) && near(1.5, 0.15) && near(8.0, 0.15), "{sweep:?}");
+        // In opposite pairs the angle's harmonics are fast in time: every cycle is tried.
+        let pairs = per_turn(&grid(&data(|i| 7.5 * (i / 2) as f64 + 180.0 * (i % 2) as f64)));
+        assert!(pairs.iter().any(|c| (c - 2.0).abs() < 0.15), "{pairs:?}");
+        assert!(pairs.len() > sweep.len());
+    }
 }

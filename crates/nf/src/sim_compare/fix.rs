@@ -4,11 +4,11 @@
 //! inclinometer and the thermometer moved onto the recording's.
 
 use super::compare::Comparison;
-use super::physics::{CYCLE_AMPLITUDE, Physics, Verdict, middle_s, noise_of, param};
+use super::physics::{Physics, Verdict, middle_s, noise_of, param};
 use super::plan;
 use super::profile::Quantity;
 use super::thermometer;
-use crate::diagnose::{Diagnosis, Kind};
+use crate::diagnose::{CYCLE_AMPLITUDE, Diagnosis, Kind};
 use crate::instrument_file::{Disturbance, EncoderError, InstrumentFile, Jump, Noise, Shocks};
 use crate::recording::Recording;
 use nf_model::noise::NoiseModel;

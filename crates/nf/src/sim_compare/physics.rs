@@ -4,7 +4,7 @@
 
 use super::compare::Comparison;
 use super::profile::Quantity;
-use crate::diagnose::{Diagnosis, Finding, Kind, Param, SHOCK_RMS};
+use crate::diagnose::{CYCLE_AMPLITUDE, Diagnosis, Finding, Kind, Param, SHOCK_RMS};
 use crate::instrument_file::InstrumentFile;
 use crate::recording::Recording;
 use nf_model::noise::NoiseModel;
@@ -76,9 +76,6 @@ pub fn shock_rms(file: &InstrumentFile, dwell_s: f64) -> f64 {
         w.share.sqrt() * w.shift_dph
     })
 }
-
-/// A thermal drift found without a recorded temperature: the amplitude of the bias's cycle.
-pub const CYCLE_AMPLITUDE: &str = "cycle_amplitude_dph";
 
 /// The run's middle time, s (where the diagnosis takes the drift's slope).
 pub fn middle_s(rec: &Recording) -> f64 {
