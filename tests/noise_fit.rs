@@ -36,15 +36,22 @@ fn level_twin(noise: NoiseModel, seed: u64, rng: &mut Rng) -> TwinConfig {
 
 /// A sweep of `twin` over `positions` dwells of 1 s.
 fn sweep(twin: &TwinConfig, positions: u16) -> Recording {
+    visits(twin, positions, Order::Sequential)
+}
+
+/// A run of `twin` over `positions` dwells of 1 s in `order`.
+fn visits(twin: &TwinConfig, positions: u16, order: Order) -> Recording {
     let cfg = RunConfig {
         positions,
+        order,
         dwell_ms: 1000,
         settle_ms: 200,
         tilt_policy: TiltPolicy::Warn,
         ..RunConfig::default()
     };
     let mut rec = Recorder::default();
-    simulate(twin, &cfg, &mut rec);
+    let (report, _) = simulate(twin, &cfg, &mut rec);
+    assert_eq!(report.result, Ok(()));
     Recording::parse(&rec.text()).unwrap()
 }
 
@@ -60,18 +67,7 @@ fn run_shocked(noise: NoiseModel, shocks: Shocks, positions: u16, order: Order, 
         let mut twin = level_twin(noise, 1000 + seed, &mut rng);
         twin.shocks = shocks;
         twin.start_deg = rng.uniform(0.0, 360.0);
-        let cfg = RunConfig {
-            positions,
-            order,
-            dwell_ms: 1000,
-            settle_ms: 200,
-            tilt_policy: TiltPolicy::Warn,
-            ..RunConfig::default()
-        };
-        let mut rec = Recorder::default();
-        let (report, _) = simulate(&twin, &cfg, &mut rec);
-        assert_eq!(report.result, Ok(()));
-        let r = Recording::parse(&rec.text()).unwrap();
+        let r = visits(&twin, positions, order);
         let err = |psi: f64| wrap_180(psi - twin.instrument.psi_deg) * 3600.0;
         let est = analyse(&r, &Options::default()).unwrap();
         let known = Options {

@@ -347,11 +347,7 @@ fn solve(
     // high latitude and large tilt the map moves nearly as fast as its arguments (its slope is
     // about eta tan(lat)), and plain iteration stalls: Newton on
     // G(psi, amp) = fit(correct(psi, amp)) - (psi, amp), its Jacobian by differences.
-    let mut eval = |psi: f64, amp: f64| -> Result<([f64; 2], Vec<f64>), String> {
-        let corr = exact_tilt_correction(lat, psi, amp, t, gammas);
-        let (p, a) = fit(&corr)?;
-        Ok(([wrap_180(p - psi), a - amp], corr))
-    };
+    let mut eval = |psi: f64, amp: f64| gap(lat, gammas, t, fit, psi, amp);
     // The closest point met, for when rounding keeps the step from the tolerance.
     let mut closest: Option<(f64, Vec<f64>, f64, f64)> = None;
     let mut converged = None;
@@ -418,6 +414,21 @@ fn solve(
     })
 }
 
+/// `G(psi, amp) = fit(correct(psi, amp)) - (psi, amp)`, the exact correction's fixed-point
+/// gap, and the correction.
+fn gap(
+    lat: f64,
+    gammas: &[f64],
+    t: &ShaftTilt<f64>,
+    fit: &mut impl FnMut(&[f64]) -> Result<(f64, f64), String>,
+    psi: f64,
+    amp: f64,
+) -> Result<([f64; 2], Vec<f64>), String> {
+    let corr = exact_tilt_correction(lat, psi, amp, t, gammas);
+    let (p, a) = fit(&corr)?;
+    Ok(([wrap_180(p - psi), a - amp], corr))
+}
+
 /// The exact correction with the gyro's scale taken as 1 (the correction's amplitude the
 /// latitude's `WE cos(lat)`), the azimuth alone iterated from `psi`: near the pole at a large
 /// tilt the vertical Earth rate the tilt adds outweighs the horizontal one, both scale with
@@ -431,10 +442,7 @@ fn unit_scale(
     mut psi: f64,
 ) -> Result<Solution, String> {
     let amp = amplitude_dph(lat);
-    let mut eval = |psi: f64| -> Result<(f64, Vec<f64>), String> {
-        let corr = exact_tilt_correction(lat, psi, amp, t, gammas);
-        Ok((wrap_180(fit(&corr)?.0 - psi), corr))
-    };
+    let mut eval = |psi: f64| gap(lat, gammas, t, fit, psi, amp).map(|(g, corr)| (g[0], corr));
     const STEP_DEG: f64 = 1e-6;
     for k in 1..=MAX_ITERATIONS {
         let (g, corrections) = eval(psi)?;

@@ -6,6 +6,7 @@
 
 use super::effect::{Change, Draws, Effect, Proposal, State, param};
 use super::kind::Kind;
+use crate::noise_fit::azimuth;
 use crate::stats::t_sf2;
 use crate::tilt::Sensitivity;
 use nf_model::EARTH_RATE_DPH;
@@ -33,14 +34,16 @@ impl Effect for ScaleFactor {
         } else {
             &s.main.fit
         };
-        let (a, b) = (f.coef[1], f.coef[2]);
         let amp = s.amplitude();
-        let (r2, c) = (a * a + b * b, &f.cov_unit);
-        let var_amp = f.s2() * (a * a * c[1][1] + b * b * c[2][2] + 2.0 * a * b * c[1][2]) / r2;
-        let var_psi = f.s2() * (b * b * c[1][1] + a * a * c[2][2] - 2.0 * a * b * c[1][2]) / (r2 * r2);
+        let cov: Vec<Vec<f64>> = f
+            .cov_unit
+            .iter()
+            .map(|r| r.iter().map(|c| c * f.s2()).collect())
+            .collect();
+        let fitted = azimuth(&f.coef, &cov);
         let (_, sd) = self
             .sensitivity
-            .carried(var_psi.max(0.0).sqrt().to_degrees(), var_amp.sqrt());
+            .carried(fitted.sigma_psi_deg, fitted.sigma_amplitude_dph);
         let v = sd * sd;
         let pred = EARTH_RATE_DPH * s.data.rec.latitude_deg.to_radians().cos();
         let z = (amp - pred) / v.sqrt();
