@@ -17,15 +17,13 @@ use crate::linfit;
 use crate::noise_calib::Verdict;
 use crate::noise_fit::azimuth;
 use crate::stats::t_quantile;
+use nf_model::uncertainty::student_widening;
 
 /// Residual degrees of freedom up to which [`fit`] is used (eight positions for Eq. 7).
 pub const MOST_DOF: usize = 5;
 
 /// `Phi(1)`: the share of a normal within one sigma.
 const ONE_SIGMA: f64 = 0.841_344_746_068_543;
-
-/// The normal's 95 % half-width.
-const Z95: f64 = 1.959_963_984_540_054;
 
 /// What the few contrasts give.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,7 +48,8 @@ pub fn fit(cols: &[Vec<f64>], y: &[f64]) -> Option<StudentFit> {
     let ls = linfit::fit(cols, y)?;
     let nu = ls.dof as f64;
     let s2 = ls.rss / nu;
-    let widening = t_quantile(0.975, nu) / Z95;
+    // The firmware's rule, so that its sigma and the host's of one run agree.
+    let widening = student_widening::<f64>(ls.dof as u32);
     let cov: Vec<Vec<f64>> = ls
         .cov_unit
         .iter()
@@ -72,6 +71,9 @@ mod tests {
     use super::*;
     use nf_model::angle::wrap_180;
     use nf_model::rng::Rng;
+
+    /// The normal's 95 % half-width.
+    const Z95: f64 = 1.959_963_984_540_054;
 
     /// `n` positions over a turn at azimuth 30 deg, amplitude 11.5 deg/h, bias 0.5 deg/h,
     /// white noise of `sd` deg/h.
