@@ -6,9 +6,9 @@
 use crate::allan::{MIN_CLUSTERS, MIN_POINTS, octaves};
 use crate::allan_model::Sampling;
 use crate::allan_removed::Removed;
+use crate::dwells;
 use crate::gap_bridge;
 use crate::linfit;
-use crate::noise_fit::dwell_of;
 use crate::recording::{self, Recording};
 use crate::spikes;
 use crate::static_log::{self, GAP_FACTOR, Spacing, StaticLog};
@@ -266,7 +266,8 @@ fn from_recording(rec: &Recording, override_hz: Option<f64>) -> Result<Source, E
         None => "the fit does not allow for what the removal took: the log has gaps".into(),
     });
     let step = step_of(&spacing, None, override_hz, &mut notes);
-    let (dwell, from) = dwell_of(rec);
+    let dw = dwells::of(rec);
+    let (dwell, from) = (dw.nominal_s, dw.from);
     let window = dwell.min(step);
     notes.push(format!(
         "one mean every {} s, each over {} s ({from}): the fit allows for the dead time between them",

@@ -11,6 +11,7 @@ pub mod analysis;
 pub(crate) mod cores;
 pub mod diagnose;
 pub mod diagnose_eval;
+pub mod dwells;
 pub mod far_off;
 pub mod gap_bridge;
 pub mod gls;

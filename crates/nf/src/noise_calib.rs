@@ -102,6 +102,7 @@ mod tests {
     /// 48 dwells of 2 s, 2.5 s apart, over a turn: the columns `1, cos, sin` and a signal.
     struct Run {
         t: Vec<f64>,
+        dwells: Vec<f64>,
         cols: Vec<Vec<f64>>,
         fitted: Vec<f64>,
     }
@@ -116,13 +117,19 @@ mod tests {
             g.iter().map(|g| g.sin()).collect(),
         ];
         let fitted = (0..n).map(|i| (0..3).map(|k| cols[k][i] * COEF[k]).sum()).collect();
-        Run { t, cols, fitted }
+        Run {
+            dwells: vec![2.0; t.len()],
+            t,
+            cols,
+            fitted,
+        }
     }
 
     fn data(r: &Run) -> Data<'_> {
         Data {
             t_s: &r.t,
             dwell_s: 2.0,
+            dwells_s: &r.dwells,
             cols: &r.cols,
             y: &r.fitted,
             quarters: &[],

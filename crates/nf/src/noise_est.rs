@@ -13,7 +13,7 @@
 //! trusting one estimate.
 
 use crate::gls::{self, Cov, WindowSet};
-use crate::quarter_contrasts::{Part, QuarterContrasts};
+use crate::quarter_contrasts::{Part, QuarterContrasts, Quarters};
 use crate::sample_spread::{SampleSpread, Spread};
 use crate::stats::chi2_sf;
 use nf_model::noise::NoiseModel;
@@ -23,13 +23,15 @@ use nf_model::noise::NoiseModel;
 pub struct Data<'a> {
     /// Centre of each dwell, s.
     pub t_s: &'a [f64],
-    /// Dwell length, s.
+    /// The typical dwell's length, s: the units of the search.
     pub dwell_s: f64,
+    /// Each dwell's length, s, in `t_s`'s order.
+    pub dwells_s: &'a [f64],
     /// The fit's columns and the (corrected) dwell means.
     pub cols: &'a [Vec<f64>],
     pub y: &'a [f64],
     /// Quarter means of the dwells that have them.
-    pub quarters: &'a [[f64; 4]],
+    pub quarters: &'a [Quarters],
     /// The samples' spread of the dwells that have it, where no dwell has quarters.
     pub spread: &'a [Spread],
     /// Per dwell, a variance of its mean alone (a shock's) in units of the white density,
@@ -252,10 +254,10 @@ struct Problem<'a> {
 impl<'a> Problem<'a> {
     fn new(data: Data<'a>, more: &[&'a [Vec<f64>]]) -> Problem<'a> {
         Problem {
-            quarters: QuarterContrasts::new(data.quarters, data.dwell_s),
-            spread: SampleSpread::new(data.spread, data.dwell_s),
+            quarters: QuarterContrasts::new(data.quarters),
+            spread: SampleSpread::new(data.spread),
             designs: std::iter::once(data.cols).chain(more.iter().copied()).collect(),
-            windows: WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]),
+            windows: WindowSet::new(data.t_s, data.dwells_s),
             data,
         }
     }
@@ -655,6 +657,7 @@ mod tests {
             let data = Data {
                 t_s: &r.t,
                 dwell_s: 1.0,
+                dwells_s: &r.dwells,
                 cols: &r.cols,
                 y: &r.y,
                 quarters: &r.quarters,

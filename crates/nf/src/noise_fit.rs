@@ -2,10 +2,12 @@
 //! the recording, and the check that the Earth rate was resolved at all.
 
 use crate::diagnose::tails;
+use crate::dwells;
 use crate::gls::{self, WindowSet};
 use crate::linfit;
 use crate::noise_calib::{self, Calibration, Verdict};
 use crate::noise_est::{self, Candidate, Colours, Data, Estimate, Thinned, scaled};
+use crate::quarter_contrasts;
 use crate::recording::{Recording, Row};
 use crate::sample_spread;
 use crate::shock_fit::{self, ShockFit};
@@ -167,9 +169,11 @@ fn spread_left_out(r: f64) -> String {
 pub struct NoiseFit {
     pub model: NoiseModel,
     pub source: NoiseSource,
-    /// The dwell length the covariance assumes, and where it came from.
+    /// The typical dwell length the covariance assumes, and where it came from.
     pub dwell_s: f64,
     pub dwell_from: &'static str,
+    /// The shortest and longest dwell, where the rows' samples make them differ.
+    pub dwell_range_s: Option<(f64, f64)>,
     pub psi_deg: f64,
     pub sigma_psi_deg: f64,
     /// How many times the azimuth's sigma exceeds GLS under `model` alone: the spread of the
@@ -195,35 +199,6 @@ pub struct Shocks {
     pub struck: Vec<usize>,
 }
 
-/// Where [`dwell_of`] found the dwell when the metadata gave it.
-pub const DWELL_FROM_METADATA: &str = "metadata dwell_s";
-
-/// The dwell length: the metadata, else samples over the sample rate, else 80 % of the
-/// shortest spacing of the dwell centres.
-pub fn dwell_of(rec: &Recording) -> (f64, &'static str) {
-    let meta = |k: &str| rec.meta.get(k).and_then(|v| v.parse::<f64>().ok()).filter(|v| *v > 0.0);
-    if let Some(d) = meta("dwell_s") {
-        return (d, DWELL_FROM_METADATA);
-    }
-    if let (Some(rate), Some(s)) = (meta("sample_rate_hz"), rec.rows.first().and_then(|r| r.samples))
-        && s > 0
-    {
-        return (s as f64 / rate, "samples / sample_rate_hz");
-    }
-    let mut t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
-    t.sort_by(f64::total_cmp);
-    let gap = t
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .filter(|d| *d > 0.0)
-        .fold(f64::MAX, f64::min);
-    if gap < f64::MAX {
-        (0.8 * gap, "80 % of the shortest spacing (no dwell_s metadata)")
-    } else {
-        (1.0, "assumed 1 s (no dwell_s metadata, no time spacing)")
-    }
-}
-
 /// Fits `y` (the rates with the tilt correction removed) by GLS.
 /// An estimated noise model's sigma is calibrated by `replicates` bootstrap replicates (none:
 /// not calibrated).
@@ -244,16 +219,14 @@ pub fn fit(
     let p = cfg.terms().ok_or("bad fit configuration")?;
     let cols: Vec<Vec<f64>> = (0..p).map(|k| rows.iter().map(|r| r[k]).collect()).collect();
     let t: Vec<f64> = rec.rows.iter().map(|r| r.t_s).collect();
-    let (dwell_s, dwell_from) = dwell_of(rec);
-    let quarters: Vec<[f64; 4]> = rec.rows.iter().filter_map(|r| r.quarters_dph).collect();
+    let dw = dwells::of(rec);
+    let (dwell_s, dwell_from) = (dw.nominal_s, dw.from);
+    let rows_dwells = || rec.rows.iter().zip(dw.each_s.iter().copied());
+    let quarters = quarter_contrasts::of_rows(rows_dwells());
     let sample_spread::Checked {
         spreads: spread,
         refused_ratio,
-    } = sample_spread::checked(
-        sample_spread::of_rows(rec.rows.iter(), || n.saturating_sub(p)),
-        &cols,
-        y,
-    );
+    } = sample_spread::checked(sample_spread::of_rows(rows_dwells(), || n.saturating_sub(p)), &cols, y);
     // As many positions as unknowns leave the noise to a given model or to the dwells' insides.
     let within = !quarters.is_empty() || !spread.is_empty() || matches!(choice, NoiseChoice::Given(..));
     if n < p || (n == p && !within) {
@@ -263,13 +236,20 @@ pub fn fit(
         ));
     }
     if !within && n - p <= student_fit::MOST_DOF {
-        return Ok(student(&cols, y, dwell_s, dwell_from, refused_ratio)?);
+        // Each dwell mean weighed by its length: the same Student's t, of the weighted fit.
+        let root: Vec<f64> = dw.each_s.iter().map(|d| (d / dwell_s).sqrt()).collect();
+        let weigh = |v: &[f64]| -> Vec<f64> { v.iter().zip(&root).map(|(a, w)| a * w).collect() };
+        let cols: Vec<Vec<f64>> = cols.iter().map(|c| weigh(c)).collect();
+        let mut f = student(&cols, &weigh(y), dwell_s, dwell_from, refused_ratio)?;
+        f.dwell_range_s = dw.range_s();
+        return Ok(f);
     }
     let colours = if n == p { Colours::White } else { colours_of(&cols, y) };
-    let windows = WindowSet::new(&t, &vec![dwell_s; n]);
+    let windows = WindowSet::new(&t, &dw.each_s);
     let data = Data {
         t_s: &t,
         dwell_s,
+        dwells_s: &dw.each_s,
         cols: &cols,
         y,
         quarters: &quarters,
@@ -334,6 +314,7 @@ pub fn fit(
         source,
         dwell_s,
         dwell_from,
+        dwell_range_s: dw.range_s(),
         psi_deg: wrap_360(v.psi_deg),
         sigma_psi_deg: v.sigma_psi_deg,
         widening: carried.0,
@@ -365,6 +346,7 @@ fn student(
         },
         dwell_s,
         dwell_from,
+        dwell_range_s: None,
         psi_deg: wrap_360(f.verdict.psi_deg),
         sigma_psi_deg: f.verdict.sigma_psi_deg,
         widening: f.widening,
@@ -509,10 +491,11 @@ fn shock_round(
     let relative: Vec<f64> = sf.extra.iter().map(|e| e / white).collect();
     let unstruck = rows
         .iter()
+        .zip(data.dwells_s.iter().copied())
         .enumerate()
         .filter(|(i, _)| !sf.struck.contains(i))
         .map(|(_, r)| r);
-    let quarters: Vec<[f64; 4]> = unstruck.clone().filter_map(|r| r.quarters_dph).collect();
+    let quarters = quarter_contrasts::of_rows(unstruck.clone());
     let spread = match data.spread {
         [] => Vec::new(),
         _ => sample_spread::of_rows(unstruck, || 0),
@@ -549,9 +532,11 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
     }
     let th = Thinned::new(data.t_s, data.y, &[data.cols]);
     let extra: Option<Vec<f64>> = data.extra.map(|x| th.rows.iter().map(|&i| x[i]).collect());
+    let dwells: Vec<f64> = th.rows.iter().map(|&i| data.dwells_s[i]).collect();
     let e = noise_est::estimate(
         Data {
             t_s: &th.t_s,
+            dwells_s: &dwells,
             y: &th.y,
             cols: &th.designs[0],
             extra: extra.as_deref(),
@@ -559,7 +544,7 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
         },
         colours,
     )?;
-    let windows = WindowSet::new(data.t_s, &vec![data.dwell_s; data.t_s.len()]);
+    let windows = WindowSet::new(data.t_s, data.dwells_s);
     let refit = |c: Candidate| -> Option<Candidate> {
         let white = c.model.white_dph_rts().powi(2);
         let absolute: Option<Vec<f64>> = data.extra.map(|x| x.iter().map(|r| r * white).collect());

@@ -2,6 +2,7 @@
 //! means, orthogonal to the dwell mean, whose scatter over the dwells enters every noise
 //! likelihood beside the dwell means.
 
+use crate::recording::Row;
 use nf_model::noise::NoiseModel;
 use std::f64::consts::FRAC_1_SQRT_2;
 
@@ -22,13 +23,32 @@ const HELMERT: [[f64; 4]; 3] = [
     ],
 ];
 
-/// The quarter contrasts of a recording's dwells, summed.
+/// One dwell's four quarter means, deg/h, and its length, s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quarters {
+    pub dph: [f64; 4],
+    pub dwell_s: f64,
+}
+
+/// The quarter means of `rows` that have them, each with its dwell's length.
+pub fn of_rows<'a>(rows: impl Iterator<Item = (&'a Row, f64)>) -> Vec<Quarters> {
+    rows.filter_map(|(r, dwell_s)| r.quarters_dph.map(|dph| Quarters { dph, dwell_s }))
+        .collect()
+}
+
+/// The quarter contrasts of a recording's dwells, summed over the dwells of each length.
 #[derive(Debug, Clone)]
 pub struct QuarterContrasts {
-    /// Scatter of the contrasts, summed over dwells.
+    groups: Vec<Group>,
+}
+
+/// The dwells of one length: their contrasts share a covariance.
+#[derive(Debug, Clone)]
+struct Group {
+    dwell_s: f64,
+    /// Scatter of the contrasts, summed over the group's dwells.
     scatter: [[f64; 3]; 3],
     dwells: usize,
-    dwell_s: f64,
 }
 
 /// A term of `-2 ln L = count ln w + log_det + quad / w`, white level `w` scaling a unit model.
@@ -57,70 +77,78 @@ impl Part {
 }
 
 impl QuarterContrasts {
-    pub fn new(quarters: &[[f64; 4]], dwell_s: f64) -> QuarterContrasts {
-        let mut scatter = [[0.0; 3]; 3];
+    pub fn new(quarters: &[Quarters]) -> QuarterContrasts {
+        let mut groups: Vec<Group> = Vec::new();
         for q in quarters {
-            let c: Vec<f64> = HELMERT.iter().map(|h| (0..4).map(|k| h[k] * q[k]).sum()).collect();
+            let c: Vec<f64> = HELMERT.iter().map(|h| (0..4).map(|k| h[k] * q.dph[k]).sum()).collect();
+            let g = match groups.iter().position(|g| g.dwell_s == q.dwell_s) {
+                Some(at) => &mut groups[at],
+                None => {
+                    groups.push(Group {
+                        dwell_s: q.dwell_s,
+                        scatter: [[0.0; 3]; 3],
+                        dwells: 0,
+                    });
+                    groups.last_mut().expect("just pushed")
+                }
+            };
+            g.dwells += 1;
             for i in 0..3 {
                 for j in 0..3 {
-                    scatter[i][j] += c[i] * c[j];
+                    g.scatter[i][j] += c[i] * c[j];
                 }
             }
         }
-        QuarterContrasts {
-            scatter,
-            dwells: quarters.len(),
-            dwell_s,
-        }
+        QuarterContrasts { groups }
     }
 
     /// How many contrasts there are: three a dwell.
     pub fn count(&self) -> usize {
-        3 * self.dwells
+        3 * self.groups.iter().map(|g| g.dwells).sum::<usize>()
     }
 
     /// Their part of the likelihood under `m`; nothing when there are none.
     pub fn part(&self, m: &NoiseModel) -> Option<Part> {
-        let nq = self.dwells;
-        if nq == 0 {
-            return Some(Part {
-                log_det: 0.0,
-                quad: 0.0,
-                count: 0,
+        let mut part = Part {
+            log_det: 0.0,
+            quad: 0.0,
+            count: 0,
+        };
+        for g in &self.groups {
+            let (inv, log_det) = inverse3(&cov(m, g.dwell_s))?;
+            part = part.plus(Part {
+                log_det: g.dwells as f64 * log_det,
+                quad: (0..3)
+                    .flat_map(|i| (0..3).map(move |j| (i, j)))
+                    .map(|(i, j)| inv[i][j] * g.scatter[j][i])
+                    .sum(),
+                count: 3 * g.dwells,
             });
         }
-        let (inv, log_det) = inverse3(&self.cov(m))?;
-        Some(Part {
-            log_det: nq as f64 * log_det,
-            quad: (0..3)
-                .flat_map(|i| (0..3).map(move |j| (i, j)))
-                .map(|(i, j)| inv[i][j] * self.scatter[j][i])
-                .sum(),
-            count: self.count(),
-        })
+        Some(part)
     }
+}
 
-    /// Covariance of the three quarter contrasts of one dwell under `m`.
-    fn cov(&self, m: &NoiseModel) -> [[f64; 3]; 3] {
-        let tq = self.dwell_s / 4.0;
-        let centre = |k: usize| (k as f64 - 1.5) * tq;
-        let mut qc = [[0.0; 4]; 4];
-        for (a, row) in qc.iter_mut().enumerate() {
-            for (b, v) in row.iter_mut().enumerate() {
-                *v = m.mean_cov(centre(b) - centre(a), tq, tq, a == b);
-            }
+/// Covariance of the three quarter contrasts of one dwell of `dwell_s` under `m`.
+fn cov(m: &NoiseModel, dwell_s: f64) -> [[f64; 3]; 3] {
+    let tq = dwell_s / 4.0;
+    let centre = |k: usize| (k as f64 - 1.5) * tq;
+    let mut qc = [[0.0; 4]; 4];
+    for (a, row) in qc.iter_mut().enumerate() {
+        for (b, v) in row.iter_mut().enumerate() {
+            *v = m.mean_cov(centre(b) - centre(a), tq, tq, a == b);
         }
-        let mut c = [[0.0; 3]; 3];
-        for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = (0..4)
-                    .flat_map(|a| (0..4).map(move |b| (a, b)))
-                    .map(|(a, b)| HELMERT[i][a] * qc[a][b] * HELMERT[j][b])
-                    .sum();
-            }
-        }
-        c
     }
+    let mut c = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            c[i][j] = (0..4)
+                .flat_map(|a| (0..4).map(move |b| (a, b)))
+                .map(|(a, b)| HELMERT[i][a] * qc[a][b] * HELMERT[j][b])
+                .sum();
+        }
+    }
+    c
 }
 
 fn inverse3(m: &[[f64; 3]; 3]) -> Option<([[f64; 3]; 3], f64)> {

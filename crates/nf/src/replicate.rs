@@ -3,6 +3,7 @@
 
 use crate::gls::Cov;
 use crate::noise_est::Data;
+use crate::quarter_contrasts::Quarters;
 use crate::sample_spread::{self, Spread};
 use nf_model::noise::NoiseModel;
 use nf_model::rng::Rng;
@@ -12,39 +13,42 @@ use nf_model::rng::Rng;
 /// spread where the recording has it.
 pub struct Draw {
     cov: Cov,
+    /// The dwells with quarters (the first ones: a recording has them on every row or none).
     quarters: usize,
     model: NoiseModel,
-    dwell_s: f64,
-    samples: Vec<u32>,
+    /// Each dwell's length.
+    dwells_s: Vec<f64>,
+    /// The samples and dwell of each spread.
+    spread: Vec<(u32, f64)>,
 }
 
 /// One replicate: the dwell means, the quarters and the spreads (of as many dwells as the
 /// recording has them).
 pub struct Replica {
     pub y: Vec<f64>,
-    pub quarters: Vec<[f64; 4]>,
+    pub quarters: Vec<Quarters>,
     pub spread: Vec<Spread>,
 }
 
 impl Draw {
     pub fn new(data: &Data<'_>, model: &NoiseModel) -> Option<Draw> {
-        let q = data.dwell_s / 4.0;
         let cov = if data.quarters.is_empty() {
-            Cov::of_windows(model, data.t_s, &vec![data.dwell_s; data.t_s.len()])?
+            Cov::of_windows(model, data.t_s, data.dwells_s)?
         } else {
-            let t: Vec<f64> = data
+            let (t, q): (Vec<f64>, Vec<f64>) = data
                 .t_s
                 .iter()
-                .flat_map(|&t| (0..4).map(move |k| t + (k as f64 - 1.5) * q))
-                .collect();
-            Cov::of_windows(model, &t, &vec![q; t.len()])?
+                .zip(data.dwells_s)
+                .flat_map(|(&t, &d)| (0..4).map(move |k| (t + (k as f64 - 1.5) * d / 4.0, d / 4.0)))
+                .unzip();
+            Cov::of_windows(model, &t, &q)?
         };
         Some(Draw {
             cov,
             quarters: data.quarters.len(),
             model: *model,
-            dwell_s: data.dwell_s,
-            samples: data.spread.iter().map(|s| s.samples).collect(),
+            dwells_s: data.dwells_s.to_vec(),
+            spread: data.spread.iter().map(|s| (s.samples, s.dwell_s)).collect(),
         })
     }
 
@@ -53,11 +57,12 @@ impl Draw {
         let m = if self.quarters == 0 { n } else { 4 * n };
         let v = self.cov.colour(&(0..m).map(|_| rng.gauss()).collect::<Vec<_>>());
         let spread = self
-            .samples
+            .spread
             .iter()
-            .map(|&samples| Spread {
-                sd_dph: sample_spread::draw(rng, &self.model, samples, self.dwell_s),
+            .map(|&(samples, dwell_s)| Spread {
+                sd_dph: sample_spread::draw(rng, &self.model, samples, dwell_s),
                 samples,
+                dwell_s,
             })
             .collect();
         if self.quarters == 0 {
@@ -67,11 +72,14 @@ impl Draw {
                 spread,
             };
         }
-        let quarters: Vec<[f64; 4]> = (0..n)
-            .map(|i| core::array::from_fn(|k| fitted[i] + v[4 * i + k]))
+        let quarters: Vec<Quarters> = (0..n)
+            .map(|i| Quarters {
+                dph: core::array::from_fn(|k| fitted[i] + v[4 * i + k]),
+                dwell_s: self.dwells_s[i],
+            })
             .collect();
         Replica {
-            y: quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect(),
+            y: quarters.iter().map(|q| q.dph.iter().sum::<f64>() / 4.0).collect(),
             quarters: quarters.into_iter().take(self.quarters).collect(),
             spread,
         }
@@ -101,10 +109,15 @@ mod tests {
         // 48 dwells of 2 s, 2.5 s apart, a signal on them; 10 of them with quarters.
         let t: Vec<f64> = (0..48).map(|i| 10.0 + 2.5 * i as f64).collect();
         let fitted: Vec<f64> = (0..48).map(|i| 0.3 + 0.01 * (i as f64 / 7.0).cos()).collect();
-        let some = [[0.0; 4]; 10];
+        let some = [Quarters {
+            dph: [0.0; 4],
+            dwell_s: 2.0,
+        }; 10];
+        let dwells = [2.0; 48];
         let data = Data {
             t_s: &t,
             dwell_s: 2.0,
+            dwells_s: &dwells,
             cols: &[],
             y: &fitted,
             quarters: &some,
@@ -119,9 +132,9 @@ mod tests {
             let Replica { y, quarters: q, .. } = draw.replicate(&mut rng, &fitted);
             assert_eq!(q.len(), 10, "as many dwells with quarters as the recording has");
             for (i, q) in q.iter().enumerate() {
-                let mean = q.iter().sum::<f64>() / 4.0;
+                let mean = q.dph.iter().sum::<f64>() / 4.0;
                 assert!((mean - y[i]).abs() < 1e-12, "a dwell mean is its quarters' mean");
-                quarter += q.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 3.0;
+                quarter += q.dph.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 3.0;
             }
             dwell += y.iter().zip(&fitted).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64;
             k += 1.0;
@@ -130,6 +143,37 @@ mod tests {
         let (dwell, quarter) = ((dwell / k).sqrt(), (quarter / (10.0 * k)).sqrt());
         assert!((dwell / 0.005 - 1.0).abs() < 0.03, "dwell means: {dwell}");
         assert!((quarter / 0.010 - 1.0).abs() < 0.04, "quarters: {quarter}");
+    }
+
+    #[test]
+    fn a_dwell_of_a_sixteenth_the_length_has_sixteen_times_the_white_variance() {
+        let t: Vec<f64> = (0..40).map(|i| 10.0 * i as f64).collect();
+        let dwells: Vec<f64> = (0..40).map(|i| if i % 2 == 0 { 0.5 } else { 8.0 }).collect();
+        let quarters: Vec<Quarters> = dwells
+            .iter()
+            .map(|&dwell_s| Quarters { dph: [0.0; 4], dwell_s })
+            .collect();
+        let fitted = vec![0.0; 40];
+        let data = Data {
+            t_s: &t,
+            dwell_s: 8.0,
+            dwells_s: &dwells,
+            cols: &[],
+            y: &fitted,
+            quarters: &quarters,
+            spread: &[],
+            extra: None,
+        };
+        let draw = Draw::new(&data, &NoiseModel::white(0.005, 8.0)).unwrap();
+        let mut rng = Rng::new(5);
+        let (mut short, mut long) = (0.0, 0.0);
+        for _ in 0..300 {
+            let r = draw.replicate(&mut rng, &fitted);
+            assert_eq!(r.quarters[3].dwell_s, 8.0);
+            short += r.y.iter().step_by(2).map(|v| v * v).sum::<f64>();
+            long += r.y.iter().skip(1).step_by(2).map(|v| v * v).sum::<f64>();
+        }
+        assert!((short / long / 16.0 - 1.0).abs() < 0.1, "{}", short / long);
     }
 
     #[test]

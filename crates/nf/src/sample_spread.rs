@@ -17,11 +17,13 @@ use crate::stats::chi2_sf;
 use nf_model::noise::NoiseModel;
 use nf_model::rng::Rng;
 
-/// What one dwell's samples show: their standard deviation and how many there were.
+/// What one dwell's samples show: their standard deviation and how many there were, over
+/// the dwell's length.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spread {
     pub sd_dph: f64,
     pub samples: u32,
+    pub dwell_s: f64,
 }
 
 impl Spread {
@@ -35,39 +37,43 @@ impl Spread {
 /// The most degrees of freedom a dwell's spread counts for in a likelihood.
 pub const DOF_PER_DWELL: u32 = 3;
 
-/// The spreads of a recording's dwells, grouped by their sample count.
+/// The spreads of a recording's dwells, grouped by their sample count and length.
 #[derive(Debug, Clone)]
 pub struct SampleSpread {
     groups: Vec<Group>,
-    dwell_s: f64,
 }
 
 #[derive(Debug, Clone)]
 struct Group {
     samples: u32,
+    dwell_s: f64,
     dwells: usize,
     sum_var: f64,
 }
 
 impl SampleSpread {
     /// Dwells of one sample or of no spread say nothing of it and are left out.
-    pub fn new(spreads: &[Spread], dwell_s: f64) -> SampleSpread {
+    pub fn new(spreads: &[Spread]) -> SampleSpread {
         let mut groups: Vec<Group> = Vec::new();
         for s in spreads.iter().filter(|s| s.tells()) {
             let var = s.sd_dph * s.sd_dph;
-            match groups.iter_mut().find(|g| g.samples == s.samples) {
+            match groups
+                .iter_mut()
+                .find(|g| g.samples == s.samples && g.dwell_s == s.dwell_s)
+            {
                 Some(g) => {
                     g.dwells += 1;
                     g.sum_var += var;
                 }
                 None => groups.push(Group {
                     samples: s.samples,
+                    dwell_s: s.dwell_s,
                     dwells: 1,
                     sum_var: var,
                 }),
             }
         }
-        SampleSpread { groups, dwell_s }
+        SampleSpread { groups }
     }
 
     /// The degrees of freedom they count for.
@@ -83,7 +89,7 @@ impl SampleSpread {
             count: 0,
         };
         for g in &self.groups {
-            let e = expected_var(m, g.samples, self.dwell_s);
+            let e = expected_var(m, g.samples, g.dwell_s);
             if e.is_nan() || e <= 0.0 {
                 return None;
             }
@@ -102,19 +108,20 @@ impl SampleSpread {
 /// measures the white level, and the spread is not used.
 pub const FEW_DOF: usize = 6;
 
-/// The spreads of `rows` that have one, for a fit that leaves the dwell means `dof()` residual
+/// The spreads of `rows` (each with its dwell's length) that have one, for a fit that leaves the dwell means `dof()` residual
 /// degrees of freedom; none from [`FEW_DOF`] on, or when any row has quarter means (they show
 /// the short-time noise at the scale of the dwell and are not thrown by filtered samples).
 /// `dof` is asked only where there are spreads: `nf diagnose` builds its design for it.
-pub fn of_rows<'a>(rows: impl Iterator<Item = &'a Row> + Clone, dof: impl FnOnce() -> usize) -> Vec<Spread> {
-    if rows.clone().any(|r| r.quarters_dph.is_some()) {
+pub fn of_rows<'a>(rows: impl Iterator<Item = (&'a Row, f64)> + Clone, dof: impl FnOnce() -> usize) -> Vec<Spread> {
+    if rows.clone().any(|(r, _)| r.quarters_dph.is_some()) {
         return Vec::new();
     }
     let spreads: Vec<Spread> = rows
-        .filter_map(|r| {
+        .filter_map(|(r, dwell_s)| {
             Some(Spread {
                 sd_dph: r.rate_sd_dph?,
                 samples: r.samples?,
+                dwell_s,
             })
         })
         .filter(Spread::tells)
@@ -243,21 +250,25 @@ mod tests {
             Spread {
                 sd_dph: 0.3,
                 samples: 100,
+                dwell_s: 1.0,
             },
             Spread {
                 sd_dph: 0.5,
                 samples: 100,
+                dwell_s: 1.0,
             },
             Spread {
                 sd_dph: 9.0,
                 samples: 1,
+                dwell_s: 1.0,
             },
             Spread {
                 sd_dph: 0.0,
                 samples: 50,
+                dwell_s: 1.0,
             },
         ];
-        let spread = SampleSpread::new(&spreads, 1.0);
+        let spread = SampleSpread::new(&spreads);
         let part = spread.part(&m).unwrap();
         assert_eq!((spread.count(), part.count), (6, 6), "two dwells count, three dof each");
         // The white level that fits (a 1 s mean's variance): the mean sample variance over
@@ -277,7 +288,16 @@ mod tests {
             gamma.iter().map(|g| g.to_radians().cos()).collect(),
             gamma.iter().map(|g| g.to_radians().sin()).collect(),
         ];
-        let spreads = |sd_dph: f64| vec![Spread { sd_dph, samples: 400 }; 4];
+        let spreads = |sd_dph: f64| {
+            vec![
+                Spread {
+                    sd_dph,
+                    samples: 400,
+                    dwell_s: 1.0
+                };
+                4
+            ]
+        };
         let mut rng = Rng::new(11);
         let (mut kept, mut caught) = (0, 0);
         for _ in 0..2000 {

@@ -2,6 +2,7 @@
 //! sin), dwell means of `3 + 10 cos(gamma)` deg/h with a bias that walks and drifts, and the
 //! quarter means, each with white noise of 0.02 deg/h.
 
+use crate::quarter_contrasts::Quarters;
 use nf_model::rng::Rng;
 
 /// The run's shape: `n` dwells of 1 s whose centres are `spacing_s` apart from `t0_s`.
@@ -18,7 +19,9 @@ pub struct SweepRun {
     pub t: Vec<f64>,
     pub cols: Vec<Vec<f64>>,
     pub y: Vec<f64>,
-    pub quarters: Vec<[f64; 4]>,
+    pub quarters: Vec<Quarters>,
+    /// Each dwell's length (1 s).
+    pub dwells: Vec<f64>,
 }
 
 impl Sweep {
@@ -33,14 +36,23 @@ impl Sweep {
             g.iter().map(|g| g.sin()).collect(),
         ];
         let mut bias = 0.0;
-        let quarters: Vec<[f64; 4]> = (0..n)
+        let quarters: Vec<Quarters> = (0..n)
             .map(|i| {
                 bias += self.walk_dph * rng.gauss();
                 let rate = 3.0 + 10.0 * cols[1][i] + bias + self.drift_dph_per_s * t[i];
-                core::array::from_fn(|_| rate + 0.02 * rng.gauss())
+                Quarters {
+                    dph: core::array::from_fn(|_| rate + 0.02 * rng.gauss()),
+                    dwell_s: 1.0,
+                }
             })
             .collect();
-        let y = quarters.iter().map(|q| q.iter().sum::<f64>() / 4.0).collect();
-        SweepRun { t, cols, y, quarters }
+        let y = quarters.iter().map(|q| q.dph.iter().sum::<f64>() / 4.0).collect();
+        SweepRun {
+            t,
+            cols,
+            y,
+            quarters,
+            dwells: vec![1.0; n],
+        }
     }
 }

@@ -139,7 +139,7 @@ fn options(a: &FitArgs) -> Result<Options, Fail> {
 fn check_positions(a: &FitArgs, rec: &Recording, opt: &Options) -> Result<(), String> {
     let within = a.noise.any()
         || rec.rows.iter().any(|r| r.quarters_dph.is_some())
-        || !crate::sample_spread::of_rows(rec.rows.iter(), || 0).is_empty();
+        || !crate::sample_spread::of_rows(rec.rows.iter().map(|r| (r, 1.0)), || 0).is_empty(); // any dwell: only whether one exists
     rec.require_turning()?;
     let terms = opt.fit_config().terms().unwrap_or(3);
     if within {

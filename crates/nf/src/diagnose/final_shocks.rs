@@ -45,13 +45,14 @@ pub fn through(
     let data = noise_est::Data {
         t_s: &d.t,
         dwell_s,
+        dwells_s: &short.dwells_s,
         cols,
         y,
         quarters: &short.quarters,
         spread: &short.spread,
         extra: None,
     };
-    let windows = WindowSet::new(&d.t, &vec![dwell_s; d.n()]);
+    let windows = WindowSet::new(&d.t, &short.dwells_s);
     let (start, carried, calibration) = match choice {
         NoiseChoice::Given(..) => (*model, (1.0, 1.0), None),
         NoiseChoice::Estimate => {

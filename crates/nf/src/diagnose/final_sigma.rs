@@ -84,6 +84,7 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
     let base = noise_est::Data {
         t_s: &d.t,
         dwell_s: short.dwell_s,
+        dwells_s: &short.dwells_s,
         cols: &designs[0],
         y: met[0].y,
         quarters: &short.quarters,

@@ -52,7 +52,7 @@ impl Effect for BiasJump {
                 ),
             ),
             Some((k, after)) => {
-                let (dwell_s, _) = crate::noise_fit::dwell_of(&d.rec);
+                let dwell_s = crate::dwells::of(&d.rec).each_s[k];
                 (
                     d.t[k] + dwell_s * (0.5 - after),
                     format!(

@@ -15,10 +15,12 @@ use super::model::Summary;
 use super::select::Finding;
 use super::tails::{Tails, shock_mix};
 use super::whiten::Whitener;
+use crate::dwells;
 use crate::gls::WindowSet;
 use crate::linfit;
 use crate::noise_est::{self, Candidate, THINNED, Term, Thinned};
-use crate::noise_fit::{NoiseChoice, dwell_of};
+use crate::noise_fit::NoiseChoice;
+use crate::quarter_contrasts::{self, Quarters};
 use crate::sample_spread::{self, Spread};
 use crate::wander_test::WanderTest;
 use nf_model::noise::NoiseModel;
@@ -132,10 +134,10 @@ fn independent(cols: &[Vec<f64>], c: &[f64]) -> bool {
 pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<Noise, String> {
     let cols = design(d);
     let short = short_time(d);
-    let (dwell_s, quarters) = (short.dwell_s, &short.quarters);
+    let (dwells, quarters) = ((short.dwell_s, short.dwells_s.as_slice()), &short.quarters);
     let n = d.n();
     let whitening = Whitening {
-        windows: WindowSet::new(&d.t, &vec![dwell_s; n]),
+        windows: WindowSet::new(&d.t, &short.dwells_s),
     };
     let whitener_of = |m: &NoiseModel| whitening.of(m);
     if let NoiseChoice::Given(m, label) = choice {
@@ -144,7 +146,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         // frequency can differ, so the effects it can mimic are also asked of the wander
         // test, started from the given model too.
         let wander = (n <= THINNED)
-            .then(|| WanderTest::new(&d.t, dwell_s, quarters, &short.spread, &[*m]))
+            .then(|| WanderTest::new(&d.t, dwells, quarters, &short.spread, &[*m]))
             .flatten();
         return Ok(Noise {
             model: *m,
@@ -196,7 +198,7 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
         };
         let mut starts = near(&e);
         starts.extend(with_drift.as_ref().map(near).unwrap_or_default());
-        WanderTest::new(&d.t, dwell_s, quarters, &short.spread, &starts).map(WanderTest::drawing)
+        WanderTest::new(&d.t, dwells, quarters, &short.spread, &starts).map(WanderTest::drawing)
     };
     Ok(Noise {
         wander,
@@ -228,19 +230,24 @@ pub fn analyse(d: &Data, y: &[f64], choice: &NoiseChoice, alpha: f64) -> Result<
     })
 }
 
-/// The dwell, and what shows the short-time noise inside it, as `nf fit` takes them: the
+/// The dwells, and what shows the short-time noise inside them, as `nf fit` takes them: the
 /// quarter means of whichever dwells have them, else the samples' spread.
 pub(super) struct ShortTime {
+    /// The typical dwell and each one, s.
     pub dwell_s: f64,
-    pub quarters: Vec<[f64; 4]>,
+    pub dwells_s: Vec<f64>,
+    pub quarters: Vec<Quarters>,
     pub spread: Vec<Spread>,
 }
 
 pub(super) fn short_time(d: &Data) -> ShortTime {
+    let dw = dwells::of(&d.rec);
+    let rows = || d.rec.rows.iter().zip(dw.each_s.iter().copied());
     ShortTime {
-        dwell_s: dwell_of(&d.rec).0,
-        quarters: d.rec.rows.iter().filter_map(|r| r.quarters_dph).collect(),
-        spread: sample_spread::of_rows(d.rec.rows.iter(), || d.n().saturating_sub(design(d).len())),
+        quarters: quarter_contrasts::of_rows(rows()),
+        spread: sample_spread::of_rows(rows(), || d.n().saturating_sub(design(d).len())),
+        dwell_s: dw.nominal_s,
+        dwells_s: dw.each_s,
     }
 }
 
@@ -255,10 +262,12 @@ fn estimates(
 ) -> (Vec<Option<noise_est::Estimate>>, usize, usize) {
     let thinned = Thinned::new(&d.t, y, designs);
     let more: Vec<&[Vec<f64>]> = thinned.designs[1..].iter().map(Vec::as_slice).collect();
+    let dwells: Vec<f64> = thinned.rows.iter().map(|&i| short.dwells_s[i]).collect();
     let e = noise_est::estimate_all(
         noise_est::Data {
             t_s: &thinned.t_s,
             dwell_s: short.dwell_s,
+            dwells_s: &dwells,
             cols: &thinned.designs[0],
             y: &thinned.y,
             quarters: &short.quarters,

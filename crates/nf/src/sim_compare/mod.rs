@@ -307,7 +307,7 @@ impl Context<'_> {
 /// departing: an effect can make the departure itself (a temperature ramp's residual in an
 /// Allan deviation).
 pub fn against(rec: &Recording, diag: &Diagnosis, file: &InstrumentFile, opt: &Options) -> Result<SimReport, String> {
-    let (dwell_s, _) = crate::noise_fit::dwell_of(rec);
+    let dwell_s = crate::dwells::of(rec).nominal_s;
     let mine = profile(rec).ok_or("the positions do not determine A cos + B sin + C")?;
     let origin_s = run_origin_s(file);
     let sims = replays(file, rec, opt.replays, origin_s);

@@ -3,8 +3,8 @@
 //! run on in continuous time between the dwells, as they do in a run; the temperature follows
 //! the recording's thermometer.
 
+use crate::dwells;
 use crate::instrument_file::InstrumentFile;
-use crate::noise_fit::dwell_of;
 use crate::recording::{Recording, Row};
 use nf_twin::{Recorder, World};
 use std::collections::BTreeMap;
@@ -93,7 +93,7 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) 
     twin.temp_trace.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut world = World::new(twin);
     // The dwell the fit and the noise estimate take for this recording.
-    let (dwell, _) = dwell_of(rec);
+    let dwell = dwells::of(rec).nominal_s;
     let per_turn = (1u64 << file.encoder.bits) as f64;
     let mut order: Vec<usize> = (0..rec.rows.len()).collect();
     order.sort_by(|&a, &b| rec.rows[a].t_s.total_cmp(&rec.rows[b].t_s));

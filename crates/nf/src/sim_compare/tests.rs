@@ -36,7 +36,7 @@ fn the_plan_is_read_back_from_the_recording() {
     file.run.dwell_s = 0.5;
     let rec = simulated(&file);
     assert_eq!(plan::infer(&rec), Some((24, "forward-back".to_string())));
-    assert!((crate::noise_fit::dwell_of(&rec).0 - 0.5).abs() < 1e-9);
+    assert!((crate::dwells::of(&rec).nominal_s - 0.5).abs() < 1e-9);
     file.run.positions = 8;
     file.run.order = "3,0,7,1,2,6,5,4".into();
     assert_eq!(plan::infer(&simulated(&file)), Some((8, "3,0,7,1,2,6,5,4".to_string())));

@@ -18,7 +18,7 @@ mod larger;
 
 use crate::gls::{Cov, WindowSet};
 use crate::linfit;
-use crate::quarter_contrasts::{Part, QuarterContrasts};
+use crate::quarter_contrasts::{Part, QuarterContrasts, Quarters};
 use crate::sample_spread::{SampleSpread, Spread};
 use crate::stats::f_sf;
 use draws::Draws;
@@ -64,17 +64,18 @@ impl Start {
 impl WanderTest {
     /// `models`: flicker-and-walk models the recording allows (any white level), the starts of
     /// each search beside white noise. `None` when none of them is usable.
+    /// `dwells_s`: each dwell's length; `dwell_s` the typical one, the unit of its grid.
     pub fn new(
         t_s: &[f64],
-        dwell_s: f64,
-        quarters: &[[f64; 4]],
+        (dwell_s, dwells_s): (f64, &[f64]),
+        quarters: &[Quarters],
         spread: &[Spread],
         models: &[NoiseModel],
     ) -> Option<WanderTest> {
         let mut test = WanderTest {
-            windows: WindowSet::new(t_s, &vec![dwell_s; t_s.len()]),
-            quarters: QuarterContrasts::new(quarters, dwell_s),
-            spread: SampleSpread::new(spread, dwell_s),
+            windows: WindowSet::new(t_s, dwells_s),
+            quarters: QuarterContrasts::new(quarters),
+            spread: SampleSpread::new(spread),
             starts: Vec::new(),
             draws: false,
         };
@@ -543,7 +544,7 @@ mod tests {
         let cols = vec![vec![1.0; n], t.iter().map(|v| (v / 5.0).cos()).collect()];
         let y: Vec<f64> = (0..n).map(|i| 0.3 * cols[1][i] + 0.01 * rng.gauss()).collect();
         let models = [walk(0.0), walk(0.5), walk(5.0)];
-        let test = WanderTest::new(&t, 1.0, &[], &[], &models).unwrap();
+        let test = WanderTest::new(&t, (1.0, &vec![1.0; n]), &[], &[], &models).unwrap();
         let ours: Vec<f64> = models
             .iter()
             .map(|m| Visit::of(test.start(unit(m)).unwrap(), &cols, &y).loglik(&[]).unwrap())
@@ -570,7 +571,7 @@ mod tests {
 
     fn p_of(n: usize, rrw: f64, drift: f64, seed: u64) -> f64 {
         let r = run(n, rrw, drift, seed);
-        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
+        let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[]).unwrap();
         test.null(&r.cols, &r.y)
             .unwrap()
             .p_value(std::slice::from_ref(&r.t))
@@ -580,7 +581,7 @@ mod tests {
     #[test]
     fn a_likelihood_with_more_columns_is_the_whole_designs_fitted_afresh() {
         let r = run(40, 0.5, 4e-4, 3);
-        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
+        let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[]).unwrap();
         let curve = vec![r.t.clone(), r.t.iter().map(|v| v * v).collect()];
         for start in &test.starts {
             let white: Vec<Vec<f64>> = r.cols.iter().chain(&curve).map(|c| start.cov.whiten(c)).collect();
@@ -598,7 +599,7 @@ mod tests {
     #[test]
     fn an_extras_basis_is_made_once_for_its_ratio_and_its_draws() {
         let r = run(40, 0.5, 4e-4, 3);
-        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
+        let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[]).unwrap();
         let v = Visit::of(test.starts[0].clone(), &r.cols, &r.y);
         let line = vec![r.t.clone()];
         let square = vec![r.t.iter().map(|x| x * x).collect::<Vec<f64>>()];
@@ -634,7 +635,9 @@ mod tests {
             let (mut f, mut drawn) = (0, 0);
             for seed in 0..60 {
                 let r = run(n, rrw, drift, 500 + seed);
-                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
+                let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[])
+                    .unwrap()
+                    .drawing();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 f += usize::from(null.p_value(&curve(&r)).unwrap() < level);
                 drawn += usize::from(null.p_drawn(&[Alternative::Columns(&curve(&r))], 400, level)[0].unwrap() < level);
@@ -660,7 +663,9 @@ mod tests {
                 let n = r.y.len();
                 let at = n / 2 + (seed % 7) as usize;
                 r.y.iter_mut().skip(at).for_each(|v| *v += jump);
-                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
+                let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[])
+                    .unwrap()
+                    .drawing();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 let tried = ChangePoints::inner(n);
                 let scanned = tried
@@ -690,7 +695,9 @@ mod tests {
         let mut decided = [0, 0];
         for seed in 0..12 {
             let r = run(36, 0.5, 4e-4 * (seed % 3) as f64, 700 + seed);
-            let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
+            let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[])
+                .unwrap()
+                .drawing();
             let null = test.null(&r.cols, &r.y).unwrap();
             let all = null.p_drawn(&[Alternative::Columns(&curve(&r))], 400, 1.0)[0].unwrap();
             for level in [0.004, 0.01, 0.05] {
@@ -714,7 +721,9 @@ mod tests {
         let r = run(36, 0.5, 4e-4, 9);
         let line = vec![r.t.clone()];
         let curve = vec![r.t.clone(), r.t.iter().map(|v| v * v).collect()];
-        let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap().drawing();
+        let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[])
+            .unwrap()
+            .drawing();
         let null = test.null(&r.cols, &r.y).unwrap();
         for limit in [0.004, 1.0] {
             let together = null.p_drawn(&[Alternative::Columns(&line), Alternative::Columns(&curve)], 400, limit);
@@ -729,7 +738,7 @@ mod tests {
         let mut ratios: Vec<f64> = (0..30)
             .map(|s| {
                 let r = run(72, 2.0, 0.0, 100 + s);
-                let test = WanderTest::new(&r.t, 1.0, &r.quarters, &[], &[]).unwrap();
+                let test = WanderTest::new(&r.t, (1.0, &r.dwells), &r.quarters, &[], &[]).unwrap();
                 let null = test.null(&r.cols, &r.y).unwrap();
                 // The white level of the quarters: 0.02 deg/h over a quarter second.
                 let white = 0.02 * 0.25f64.sqrt() / 60.0;

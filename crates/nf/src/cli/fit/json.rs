@@ -94,7 +94,10 @@ struct NoiseModelJson {
     chi2_dof: usize,
     /// Where the dwell came from.
     dwell_from: &'static str,
-    /// Dwell per position, s.
+    /// The shortest and longest dwell, s, where the rows' samples make them differ (each
+    /// dwell mean weighed by its own); null where every dwell is `dwell_s`.
+    dwell_range_s: Option<(f64, f64)>,
+    /// Dwell per position (the typical one where they differ), s.
     dwell_s: f64,
     /// Gauss-Markov bias standard deviation, deg/h.
     gm_sigma_dph: f64,
@@ -191,6 +194,7 @@ pub(super) fn fit_json(an: &Analysis) -> FitJson {
             chi2: g.chi2,
             chi2_dof: g.dof,
             dwell_from: g.dwell_from,
+            dwell_range_s: g.dwell_range_s,
             dwell_s: g.dwell_s,
             gm_sigma_dph: m.gm_sigma_dph,
             gm_tau_s: m.gm_tau_s,

@@ -107,10 +107,13 @@ fn noise(out: &mut impl Write, an: &Analysis) -> Result<()> {
     let m = &g.model;
     writeln!(out, "noise model    {}", g.source.describe())?;
     // The dwell, where no metadata gives it, is a guess: say whence.
-    let from = match g.dwell_from {
-        crate::noise_fit::DWELL_FROM_METADATA => String::new(),
+    let mut from = match g.dwell_from {
+        crate::dwells::FROM_METADATA => String::new(),
         from => format!(", {from}"),
     };
+    if let Some((lo, hi)) = g.dwell_range_s {
+        from += &format!("; the dwells are {lo:.3}-{hi:.3} s by their samples, each mean weighed by its own");
+    }
     // A sensor's short filter tail is also each dwell's own noise (`nf plan` budgets it so).
     let tail = match m.gm_within(g.dwell_s) {
         true => format!(", {:.5} with its Gauss-Markov tail", m.own_mean_sd_dph(g.dwell_s)),
