@@ -31,7 +31,7 @@ impl Dwells {
     }
 
     /// The dwell of a row of `samples` samples.
-    pub fn of_samples(&self, samples: u32) -> f64 {
+    fn of_samples(&self, samples: u32) -> f64 {
         match self.typical_samples {
             Some(typical) => {
                 let ratio = f64::from(samples) / f64::from(typical);
@@ -43,16 +43,6 @@ impl Dwells {
             }
             None => self.nominal_s,
         }
-    }
-
-    /// Those of the rows `keep` picks.
-    pub fn picked(&self, keep: impl Fn(usize) -> bool) -> Vec<f64> {
-        self.each_s
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| keep(*i))
-            .map(|(_, d)| *d)
-            .collect()
     }
 
     /// The shortest and longest dwell, where they differ.
