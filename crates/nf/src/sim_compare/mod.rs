@@ -233,16 +233,24 @@ fn names_of_effects(physics: &[Physics]) -> String {
 }
 
 /// A file made for another site than the recording's: the replays run at the file's latitude,
-/// so the amplitude and all the Earth rate sets differ whatever the physics.
+/// so the amplitude and all the Earth rate sets differ whatever the physics. Dwells of
+/// different lengths, which the replays take and an instrument file cannot hold.
 fn warnings(rec: &Recording, file: &InstrumentFile) -> Vec<String> {
+    let mut said = Vec::new();
     let (mine, theirs) = (rec.latitude_deg, file.site.latitude_deg);
     if (mine - theirs).abs() > 1e-6 {
-        vec![format!(
+        said.push(format!(
             "the instrument file's latitude ({theirs} deg) is not the recording's ({mine} deg): the replays run at the file's, so the amplitude and everything the Earth rate sets differ from the recording's whatever the physics (--fix takes the recording's)"
-        )]
-    } else {
-        Vec::new()
+        ));
     }
+    let dw = crate::dwells::of(rec);
+    if let Some((lo, hi)) = dw.range_s() {
+        said.push(format!(
+            "the recording's dwells are {lo:.3}-{hi:.3} s by their samples: the replays take each row's, but an instrument file has one dwell, and --fix writes the typical one ({:.3} s)",
+            dw.nominal_s
+        ));
+    }
+    said
 }
 
 /// The diagnosis options that judge the recording under the file's own noise model: where

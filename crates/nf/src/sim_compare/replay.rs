@@ -92,8 +92,8 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) 
         .collect();
     twin.temp_trace.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut world = World::new(twin);
-    // The dwell the fit and the noise estimate take for this recording.
-    let dwell = dwells::of(rec).nominal_s;
+    // The dwells the fit and the noise estimate take for this recording.
+    let dw = dwells::of(rec);
     let per_turn = (1u64 << file.encoder.bits) as f64;
     let mut order: Vec<usize> = (0..rec.rows.len()).collect();
     order.sort_by(|&a, &b| rec.rows[a].t_s.total_cmp(&rec.rows[b].t_s));
@@ -101,6 +101,7 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) 
     let mut last_deg: Option<f64> = None;
     for i in order {
         let r = &rec.rows[i];
+        let dwell = dw.each_s[i];
         let start_s = r.t_s + origin_s - dwell / 2.0;
         // The shaft where the encoder read the recording's angle; a move ends `settle_s`
         // before the dwell, and no move at all leaves the last settling alone.
@@ -135,7 +136,7 @@ pub fn replay(file: &InstrumentFile, rec: &Recording, seed: u64, origin_s: f64) 
     }
     let mut meta = BTreeMap::new();
     meta.insert("format".into(), "northfinder-recording/1".into());
-    meta.insert("dwell_s".into(), dwell.to_string());
+    meta.insert("dwell_s".into(), dw.nominal_s.to_string());
     meta.insert("source".into(), "replay of an instrument file".into());
     Recording {
         latitude_deg: file.site.latitude_deg,

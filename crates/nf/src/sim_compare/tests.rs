@@ -28,6 +28,24 @@ fn a_replay_keeps_the_plan_and_the_columns() {
 }
 
 #[test]
+fn a_replay_takes_each_row_s_dwell_from_its_samples() {
+    let file = InstrumentFile::default();
+    let mut rec = simulated(&file);
+    for r in rec.rows.iter_mut().step_by(2) {
+        r.samples = r.samples.map(|s| s / 16);
+    }
+    let r = replay(&file, &rec, 7, run_origin_s(&file));
+    for (a, b) in rec.rows.iter().zip(&r.rows) {
+        assert_eq!(a.samples, b.samples, "line {}", a.line);
+    }
+    let against = warnings(&rec, &file);
+    assert!(
+        against.iter().any(|w| w.contains("dwells are 0.125-2.000 s")),
+        "{against:?}"
+    );
+}
+
+#[test]
 fn the_plan_is_read_back_from_the_recording() {
     let mut file = InstrumentFile::default();
     assert_eq!(plan::infer(&simulated(&file)), Some((72, "sequential".to_string())));
