@@ -148,6 +148,8 @@ impl Recording {
         // take a gigabyte at a million rows).
         let mut seen: BTreeMap<u32, (usize, u64)> = BTreeMap::new();
         let mut blanks = Blanks::default();
+        // Half the unit of the finest digit written in rate_dph and in each quarter column.
+        let mut written = [f64::INFINITY; 5];
         for row in head.rows(text) {
             let (n, cells) = row?;
             let num = |name: &str| number(n, name, &cells[col(name)]);
@@ -229,6 +231,11 @@ impl Recording {
                     );
                 }
             }
+            for (finest, name) in written.iter_mut().zip(std::iter::once("rate_dph").chain(QUARTERS)) {
+                if let Some(h) = head.col(name).and_then(|i| half_unit(&cells[i])) {
+                    *finest = finest.min(h);
+                }
+            }
             rows.push(Row {
                 line: n,
                 index: index as u32,
@@ -263,7 +270,12 @@ impl Recording {
             });
         }
         in_visiting_order(&mut rows, &mut warnings)?;
-        quarters_of_their_dwells(&mut rows, &mut warnings);
+        // What rounding to the digits written can put between the quarters' mean and the
+        // row's rate: each column's finest digit, as a writer that drops trailing zeros
+        // writes a round value with fewer.
+        let finest = written.map(|h| if h.is_finite() { h } else { 0.0 });
+        let rounding = finest[0] + finest[1..].iter().sum::<f64>() / 4.0;
+        quarters_of_their_dwells(&mut rows, rounding, &mut warnings);
         quarters_of_few_samples(&mut rows, &mut warnings);
         quarters_that_vary(&mut rows, &mut warnings);
         sample_spread_of_none(&rows, &mut warnings);
@@ -342,13 +354,16 @@ fn elevation(line: usize, name: &str, v: Option<f64>, warnings: &mut Vec<Error>)
 /// corrupted, or written from another dwell): they are dropped, with a warning naming the line,
 /// as they would make the short-time noise they show any size. Allowed: a fifth of the
 /// quarters' own spread, which covers quarters of unequal sample counts (40 samples or more),
-/// and the rounding of six decimals. Row by row, so that what was kept reads back the same.
-fn quarters_of_their_dwells(rows: &mut [Row], warnings: &mut Vec<Error>) {
+/// and `rounding`, what the digits written allow (an outside audit's valid quarters of two
+/// decimals were dropped in all of 40 files). Row by row, so that what was kept reads back the
+/// same.
+fn quarters_of_their_dwells(rows: &mut [Row], rounding: f64, warnings: &mut Vec<Error>) {
     for r in rows.iter_mut() {
         let Some(q) = r.quarters_dph else { continue };
         let mean = q.iter().sum::<f64>() / 4.0;
         let spread = q.iter().map(|v| (v - mean).abs()).fold(0.0, f64::max);
-        if (mean - r.rate_dph).abs() > QUARTER_SLACK * spread + 1e-6 * (1.0 + r.rate_dph.abs()) {
+        let allowed = QUARTER_SLACK * spread + rounding + 1e-6 * (1.0 + r.rate_dph.abs());
+        if (mean - r.rate_dph).abs() > allowed {
             warnings.push(Error {
                 line: r.line,
                 what: format!(
@@ -359,6 +374,18 @@ fn quarters_of_their_dwells(rows: &mut [Row], warnings: &mut Vec<Error>) {
             r.quarters_dph = None;
         }
     }
+}
+
+/// Half the unit of the last digit written in `cell` (`-12.289` 0.0005, `1.5e-3` 0.00005,
+/// `12` 0.5); `None` where it is no number.
+fn half_unit(cell: &str) -> Option<f64> {
+    cell.parse::<f64>().ok()?;
+    let (mantissa, exponent) = match cell.find(['e', 'E']) {
+        Some(at) => (&cell[..at], cell[at + 1..].parse::<i32>().ok()?),
+        None => (cell, 0),
+    };
+    let decimals = mantissa.find('.').map_or(0, |dot| mantissa.len() - dot - 1) as i32;
+    Some(0.5 * 10f64.powi(exponent - decimals))
 }
 
 /// Quarters equal to one another in every dwell are not the means of a gyro's samples (a

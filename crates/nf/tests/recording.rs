@@ -279,6 +279,26 @@ fn quarters_that_do_not_average_to_their_rate_are_dropped_with_a_warning() {
 }
 
 #[test]
+fn quarters_written_with_fewer_digits_than_their_rate_are_kept() {
+    // Quarters to two decimals: their mean is off the rate by up to half a hundredth, which
+    // a fifth of their spread need not cover (an outside audit's writer: dropped in 40 of 40).
+    let head = "# format = northfinder-recording/1\n# latitude_deg = 1\nindex,t_s,encoder_deg,rate_dph,q1_dph,q2_dph,q3_dph,q4_dph\n";
+    let text = format!(
+        "{head}0,1,0,-12.2894,-12.29,-12.29,-12.29,-12.28\n1,2,90,-3.1102,-3.11,-3.12,-3.11,-3.10\n2,3,180,-12.2894,-12.29,-12.29,7.71,-12.28\n"
+    );
+    let r = Recording::parse(&text).unwrap();
+    let kept: Vec<bool> = r.rows.iter().map(|r| r.quarters_dph.is_some()).collect();
+    assert_eq!(kept, [true, true, false], "{:?}", r.warnings);
+    // The same quarters to six decimals are held to six.
+    let exact = text.replace(
+        "-12.29,-12.29,-12.29,-12.28",
+        "-12.290000,-12.290000,-12.290000,-12.280000",
+    );
+    let r = Recording::parse(&exact).unwrap();
+    assert!(r.rows[0].quarters_dph.is_none(), "{:?}", r.rows[0]);
+}
+
+#[test]
 fn gaps_name_the_missing_indices_and_the_lines_around() {
     let row = |index, line| Row {
         line,
