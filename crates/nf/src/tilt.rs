@@ -121,18 +121,25 @@ struct Circle {
     dof: usize,
 }
 
+/// The radius (sin of the tilt, 0.0002") below which a circle, or its sigma, is the rounding
+/// of identical readings: an outside audit's level shaft read in 0.01 deg steps gave a radius
+/// of 8.7e-19 and a Wald test of rounding against rounding, a tilt named at p 2.4e-7.
+const EXACT_CIRCLE: f64 = 1e-9;
+
 impl Circle {
     fn test(&self) -> CircleTest {
         let [[caa, cab], [_, cbb]] = self.cov;
         let det = caa * cbb - cab * cab;
         let r = self.a.hypot(self.b);
+        // Scatter below the radius a circle is read from is rounding: no scatter.
+        let scatter = det > 0.0 && caa.max(cbb).sqrt() >= EXACT_CIRCLE;
         let p = if self.dof == 0 {
             1.0
-        } else if det > 0.0 {
+        } else if scatter {
             // Wald's quadratic form of (a, b) over 2: an F of 2 and the scatter's dof.
             let w = (self.a * self.a * cbb - 2.0 * self.a * self.b * cab + self.b * self.b * caa) / det;
             f_sf(0.5 * w, 2.0, self.dof as f64)
-        } else if r > 0.0 {
+        } else if r > EXACT_CIRCLE {
             // Readings on the circle exactly.
             0.0
         } else {
@@ -610,6 +617,24 @@ mod tests {
             text.push_str(&format!("{k},{},{g},{},{x},{y}\n", 2 * k, 10.0 * g.to_radians().cos()));
         }
         Recording::parse(&text).unwrap()
+    }
+
+    #[test]
+    fn identical_readings_are_no_tilt_and_readings_on_a_circle_exactly_are_one() {
+        let on = |tilt_deg: f64| {
+            let mut text = String::from("# format = northfinder-recording/1\n# latitude_deg = 45\n");
+            text.push_str("index,t_s,encoder_deg,rate_dph,tilt_x_deg,tilt_y_deg\n");
+            for k in 0..36 {
+                let g = k as f64 * 10.0;
+                let x = -0.007176 - tilt_deg * (g - 40.0).to_radians().cos();
+                let y = 0.007176 + tilt_deg * (g - 40.0).to_radians().sin();
+                text.push_str(&format!("{k},{},{g},1,{x},{y}\n", 2 * k));
+            }
+            circle(&Recording::parse(&text).unwrap()).unwrap().0.test().p
+        };
+        // A level shaft read in steps: every reading the same (an outside audit: p 2.4e-7).
+        assert_eq!(on(0.0), 1.0);
+        assert_eq!(on(0.001), 0.0);
     }
 
     #[test]
