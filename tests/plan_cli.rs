@@ -173,6 +173,12 @@ fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
         out.contains("target 3\": not reachable with this gyro and motor in runs up to 400 s (--max-time)"),
         "{out}"
     );
+    // No run fits in the time allowed: the time is named, not the gyro and motor alone.
+    let out = text(["--bias-instability", "0.004"], &["--target", "15", "--max-time", "5"]);
+    assert!(
+        out.contains("target 15\": not reachable with this gyro and motor in runs up to 5 s (--max-time): the shortest run searched takes"),
+        "{out}"
+    );
     // At the most positions and the longest run: a longer dwell still gains, so the time binds.
     let out = text(["--bias-instability", "0.004"], &["--target", "2.5"]);
     assert!(
@@ -189,6 +195,37 @@ fn plan_under_flicker_finds_balanced_orders_and_says_when_out_of_reach() {
     let (code, _, err) = nf(&["plan", "--bias-instability", "-1"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--bias-instability"), "{err}");
+    // A motor of fewer steps a turn than positions would visit one angle twice.
+    let (code, _, err) = nf(&["plan", "--steps-per-rev", "3"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--steps-per-rev"), "{err}");
+    let (code, _, err) = nf(&["plan", "--steps-per-rev", "16", "--n", "72"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--n 72: more positions than the motor's 16 steps a turn"),
+        "{err}"
+    );
+    let (code, out, err) = nf(&[
+        "plan",
+        "--steps-per-rev",
+        "16",
+        "--n",
+        "8",
+        "--target",
+        "15",
+        "--mc-runs",
+        "0",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let most = j["fastest_per_order"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["n"].as_u64().unwrap())
+        .max();
+    assert!(most.is_some_and(|n| n <= 16), "{out}");
     let (code, _, err) = nf(&["plan", "--order", "spiral"]);
     assert_eq!(code, 2, "{err}");
     let (code, _, err) = nf(&["plan", "--order", "0,2,4,6,1,3,5,7"]);

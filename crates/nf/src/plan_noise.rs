@@ -99,6 +99,9 @@ pub struct Plan {
     /// For each order that does not reach the target, the smallest uncertainty its searched
     /// runs reach: a sequential run's floor where balanced orders reach the target.
     pub short_of: Vec<Candidate>,
+    /// The shortest run searched, s, within the time allowed or not: what `--max-time` is
+    /// against where no run fits in it.
+    pub shortest_s: Option<f64>,
 }
 
 /// Coarse dwells refined: those whose run is within this factor of the order's fastest on the
@@ -123,6 +126,7 @@ pub fn search(
         per_order: Vec::new(),
         floor: None,
         short_of: Vec::new(),
+        shortest_s: None,
     };
     // No run beats the levelling residue.
     if tilt_arcsec(budget.tilt_deg, budget.latitude_deg) >= target_arcsec {
@@ -222,6 +226,7 @@ impl Scan<'_> {
             time_s: self.levelling_s + s.duration_s,
             sigma_arcsec: sigma,
         };
+        plan.shortest_s = Some(plan.shortest_s.map_or(c.time_s, |t| t.min(c.time_s)));
         if c.time_s <= self.max_time_s {
             if plan.floor.as_ref().is_none_or(|f| sigma < f.sigma_arcsec) {
                 plan.floor = Some(c.clone());

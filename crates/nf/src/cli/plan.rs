@@ -56,7 +56,7 @@ pub struct PlanArgs {
     #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().accel_sps2 as f64, value_parser = above(0.0, 1e8))]
     accel: f64,
     /// Motor steps per shaft turn.
-    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().steps_per_rev, value_parser = clap::value_parser!(u32).range(2..=10_000_000))]
+    #[arg(long, allow_hyphen_values = true, default_value_t = stepper::Config::default().steps_per_rev, value_parser = clap::value_parser!(u32).range(4..=10_000_000))]
     steps_per_rev: u32,
     /// Coloured noise terms (bias instability, random walk, Gauss-Markov) of the gyro.
     #[command(flatten)]
@@ -109,11 +109,17 @@ fn even_visits(order: &Order, n: u16) -> Result<(), Fail> {
 }
 
 /// Why no run reaches the target: the limit its best run stands at, or the noise's floor.
-fn unreachable(p: &plan_noise::Plan, max_time_s: f64) -> String {
+fn unreachable(p: &plan_noise::Plan, space: &Space) -> String {
+    let max_time_s = space.max_time_s;
     let Some(floor) = &p.floor else {
-        return "in any run searched".into();
+        return match p.shortest_s {
+            Some(t) if t > max_time_s => {
+                format!("in runs up to {max_time_s:.0} s (--max-time): the shortest run searched takes {t:.1} s")
+            }
+            _ => "in any run searched".into(),
+        };
     };
-    let most = Space::default().positions.into_iter().max().unwrap_or(0);
+    let most = space.positions.iter().copied().max().unwrap_or(0);
     // A longer dwell goes on gaining where the time allows it: the time limit binds first.
     if floor.time_s > 0.9 * max_time_s {
         let also = if floor.n >= most {
@@ -198,6 +204,15 @@ impl Planned {
             .and_then(|o| o.check(a.n as u16).map(|()| o))
             .map_err(|e| Fail(format!("--order: {e}"), 2))?;
         even_visits(&order, a.n as u16)?;
+        if a.n > a.steps_per_rev {
+            return Err(Fail(
+                format!(
+                    "--n {}: more positions than the motor's {} steps a turn (--steps-per-rev): two would share an angle",
+                    a.n, a.steps_per_rev
+                ),
+                2,
+            ));
+        }
         let n = a.n as usize;
         // Levelling: two half turns, settling and an inclinometer reading at each.
         let levelling_s = 2.0 * (timing.move_s(a.steps_per_rev / 2) + a.settle + timing.per_position_s);
@@ -342,6 +357,21 @@ impl Planned {
     }
 }
 
+/// The runs the search considers: no more positions than the motor has steps a turn (two
+/// would share an angle), none longer than `--max-time`.
+fn space(a: &PlanArgs) -> Space {
+    let all = Space::default();
+    Space {
+        positions: all
+            .positions
+            .into_iter()
+            .filter(|&n| n <= a.steps_per_rev as usize)
+            .collect(),
+        max_time_s: a.max_time,
+        ..all
+    }
+}
+
 /// The fastest run reaching `target` arcsec, with a spinner while it is searched.
 fn search(
     a: &PlanArgs,
@@ -353,10 +383,7 @@ fn search(
 ) -> plan_noise::Plan {
     let bar = indicatif::ProgressBar::new_spinner();
     bar.set_message("searching orders, n and dwells");
-    let space = Space {
-        max_time_s: a.max_time,
-        ..Space::default()
-    };
+    let space = space(a);
     let p = plan_noise::search(
         model,
         budget,

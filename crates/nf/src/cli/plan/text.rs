@@ -107,7 +107,7 @@ fn target(out: &mut impl Write, a: &PlanArgs, t: f64, search: &plan_noise::Plan)
         None => writeln!(
             out,
             "target {t}\": not reachable with this gyro and motor {}",
-            unreachable(search, a.max_time)
+            unreachable(search, &super::space(a))
         )?,
     }
     for c in &search.per_order {
