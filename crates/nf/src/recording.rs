@@ -285,6 +285,7 @@ impl Recording {
         if let Some(d) = dwell_s {
             dwells_apart(&rows, d, head.meta_line("dwell_s"), &mut warnings);
         }
+        fewer_than_planned(&meta, head.meta_line("positions"), rows.len(), &mut warnings);
         Ok(Recording {
             latitude_deg,
             meta,
@@ -509,6 +510,23 @@ fn time_leaps(rows: &[Row], warnings: &mut Vec<Error>) {
                 w[0].line,
                 short(median),
                 leaps.len()
+            ),
+        });
+    }
+}
+
+/// A run that planned more positions (`positions`, the firmware's metadata) than it has rows
+/// ended early: its target reached, an abort or a fault, or the file was cut. Said, as the
+/// fit of the rows there are is not the run planned. A `positions` that is not a count (a
+/// key of another writer's) is left alone.
+fn fewer_than_planned(meta: &BTreeMap<String, String>, line: usize, rows: usize, warnings: &mut Vec<Error>) {
+    if let Some(planned) = meta.get("positions").and_then(|v| v.trim().parse::<usize>().ok())
+        && rows < planned
+    {
+        warnings.push(Error {
+            line,
+            what: format!(
+                "positions = {planned} but {rows} rows: the run ended before its last position (the firmware's early stop at its target, an abort or a fault) or the file was cut; the rows written are fitted"
             ),
         });
     }

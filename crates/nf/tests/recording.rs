@@ -669,3 +669,27 @@ fn a_leap_in_time_is_said_with_its_lines() {
     // A half turn's longer step says nothing.
     assert!(run("15").warnings.is_empty());
 }
+
+#[test]
+fn a_run_that_ended_before_its_planned_positions_is_said_to() {
+    // The firmware writes the positions it plans; an early stop leaves fewer rows.
+    let planned = |v: &str| GOOD.replace("# instrument", &format!("# positions = {v}\n# instrument"));
+    let r = Recording::parse(&planned("72")).unwrap();
+    let said: Vec<&str> = r.warnings.iter().map(|w| w.what.as_str()).collect();
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.line == 3 && w.what.starts_with("positions = 72 but 4 rows: the run ended")),
+        "{said:?}"
+    );
+    assert_eq!(r.rows.len(), 4);
+    // All of them written, or a key of another writer's: nothing to say.
+    for v in ["4", "four"] {
+        let r = Recording::parse(&planned(v)).unwrap();
+        assert!(
+            r.warnings.iter().all(|w| !w.what.contains("positions")),
+            "{:?}",
+            r.warnings
+        );
+    }
+}
