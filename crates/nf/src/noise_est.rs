@@ -506,6 +506,10 @@ pub enum Colours {
     /// heavy-tailed dwell means (`nf fit`), whose excess over their quarters is shocks, white
     /// from dwell to dwell, which flicker would take for wander.
     WithShocks,
+    /// Flicker and walk, and a Gauss-Markov bias shorter than three dwell spacings: for dwell
+    /// means that scatter beyond their quarters but not as a wander does (`nf fit`, where that
+    /// bias explains the run far better than flicker and walk can).
+    WithFastMarkov,
     /// None: as many positions as unknowns leave the dwell means no contrast to show a
     /// colour by, and the quarters or the samples' spread measure the white level alone.
     White,
@@ -529,7 +533,9 @@ pub fn estimate_all<'a>(data: Data<'a>, more: &[&'a [Vec<f64>]], colours: Colour
     match colours {
         Colours::FlickerAndWalk | Colours::White => {}
         Colours::WithGaussMarkov => grids.push(Grid::gauss_markov(ub, p.spacing(), p.span())),
-        Colours::WithShocks => grids.push(Grid::short_gauss_markov(ub, p.data.dwell_s, p.spacing())),
+        Colours::WithShocks | Colours::WithFastMarkov => {
+            grids.push(Grid::short_gauss_markov(ub, p.data.dwell_s, p.spacing()))
+        }
     }
     let mut cands: Vec<Vec<(Point, Candidate)>> = vec![Vec::new(); p.designs.len()];
     // Whole decades first, then the half decades next to a point that is not negligible for

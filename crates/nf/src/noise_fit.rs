@@ -113,6 +113,9 @@ impl NoiseSource {
                     Colours::WithShocks => {
                         "; the dwell means are heavy-tailed: read as shocks (a Gauss-Markov bias shorter than three dwell spacings searched too), not as wander, and each dwell weighed by how likely a shock struck it"
                     }
+                    Colours::WithFastMarkov => {
+                        "; the dwell means scatter beyond their quarters but do not wander as flicker would: a Gauss-Markov bias shorter than three dwell spacings searched too"
+                    }
                     Colours::White => {
                         "; white: as many positions as unknowns leave the dwell means no contrast to show a colour by, so the noise between dwells is taken to be what their insides show"
                     }
@@ -244,7 +247,6 @@ pub fn fit(
         f.dwell_range_s = dw.range_s();
         return Ok(f);
     }
-    let colours = if n == p { Colours::White } else { colours_of(&cols, y) };
     let windows = WindowSet::new(&t, &dw.each_s);
     let data = Data {
         t_s: &t,
@@ -255,6 +257,12 @@ pub fn fit(
         quarters: &quarters,
         spread: &spread,
         extra: None,
+    };
+    let colours = match choice {
+        _ if n == p => Colours::White,
+        NoiseChoice::Estimate => colours_of(&data),
+        NoiseChoice::Given(..) if shock_tails(&cols, y).is_some() => Colours::WithShocks,
+        NoiseChoice::Given(..) => Colours::FlickerAndWalk,
     };
     let (model, source, v, carried) = match choice {
         NoiseChoice::Given(m, s) => {
@@ -572,13 +580,44 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
 
 /// Heavy-tailed dwell means (their least-squares residuals' tails beat the normal at
 /// [`SHOCK_TAILS`]) are shocks: the short Gauss-Markov family joins flicker and walk, so that
-/// their scatter beyond the quarters is not taken for wander.
-fn colours_of(cols: &[Vec<f64>], y: &[f64]) -> Colours {
-    match shock_tails(cols, y) {
-        Some(_) => Colours::WithShocks,
-        None => Colours::FlickerAndWalk,
+/// their scatter beyond the quarters is not taken for wander. Gaussian ones whose scatter a
+/// short Gauss-Markov bias explains by [`FAST_MARKOV_GATE`] better than flicker and walk do
+/// get that family too.
+fn colours_of(data: &Data) -> Colours {
+    if shock_tails(data.cols, data.y).is_some() {
+        Colours::WithShocks
+    } else if fast_markov_margin(data).is_some_and(|m| m >= FAST_MARKOV_GATE) {
+        Colours::WithFastMarkov
+    } else {
+        Colours::FlickerAndWalk
     }
 }
+
+/// How far the best model with a Gauss-Markov bias shorter than three dwell spacings beats
+/// the best of flicker and walk, in log-likelihood. Not looked for past [`noise_est::THINNED`]
+/// positions, whose estimate is thinned.
+fn fast_markov_margin(data: &Data) -> Option<f64> {
+    if data.t_s.len() > noise_est::THINNED {
+        return None;
+    }
+    let e = noise_est::estimate(data.clone(), Colours::WithFastMarkov)?;
+    let best = |markov: bool| {
+        std::iter::once(&e.best)
+            .chain(&e.grid)
+            .filter(|c| noise_est::Term::GaussMarkov.absent(&c.model) != markov)
+            .map(|c| c.loglik)
+            .fold(f64::MIN, f64::max)
+    };
+    Some(best(true) - best(false))
+}
+
+/// The margin by which a short Gauss-Markov bias must beat flicker and walk to be searched.
+/// Such a bias (a sensor's correlation over a second or two, 0.05 deg/h of it on 2 s dwells)
+/// makes the dwell means scatter beyond their quarters, which flicker explains only with a
+/// wander at the run's own frequency that is not there (an outside audit: sigma 459" for an
+/// error of 100"). Searched on any evidence, it took real MEMS sweeps' wander for it and made
+/// their sigma too small (docs/noise.md), where it was a few units better at most.
+const FAST_MARKOV_GATE: f64 = 5.0;
 
 /// The tails of the least-squares residuals of `y ~ cols` where a Student-t explains them
 /// better than the normal, at [`SHOCK_TAILS`].
