@@ -586,11 +586,17 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
 fn colours_of(data: &Data) -> Colours {
     if shock_tails(data.cols, data.y).is_some() {
         Colours::WithShocks
-    } else if fast_markov_margin(data).is_some_and(|m| m >= FAST_MARKOV_GATE) {
+    } else if fast_markov_shows(data) {
         Colours::WithFastMarkov
     } else {
         Colours::FlickerAndWalk
     }
+}
+
+/// Whether a Gauss-Markov bias shorter than three dwell spacings beats flicker and walk by
+/// [`FAST_MARKOV_GATE`]: then its family is searched beside them.
+pub(crate) fn fast_markov_shows(data: &Data) -> bool {
+    fast_markov_margin(data).is_some_and(|m| m >= FAST_MARKOV_GATE)
 }
 
 /// How far the best model with a Gauss-Markov bias shorter than three dwell spacings beats

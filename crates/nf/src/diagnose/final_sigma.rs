@@ -16,7 +16,7 @@ use super::data::Data;
 use super::noise::{plausible_candidates, short_time, with_bursts_held_out};
 use crate::noise_calib::{self, Calibration, Verdict};
 use crate::noise_est::{self, Colours, THINNED, Term};
-use crate::noise_fit::azimuth;
+use crate::noise_fit::{self, azimuth};
 use crate::student_fit;
 use nf_model::angle::wrap_180;
 
@@ -39,6 +39,9 @@ pub struct FinalSigma {
     /// Each model's weight and calibrated verdict, in the order given; `None` where its
     /// noise could not be estimated.
     pub models: Vec<Option<(f64, Verdict)>>,
+    /// Whether a Gauss-Markov bias shorter than three dwell spacings was searched beside
+    /// flicker and walk (where it shows, as in `nf fit`).
+    pub short_markov: bool,
 }
 
 impl FinalSigma {
@@ -59,7 +62,12 @@ impl FinalSigma {
             1 => "the model's own columns".to_string(),
             k => format!("each model's own columns ({k} models met, weighed by their evidence)"),
         };
-        format!("under the noise estimated with {models}{scaled}")
+        let markov = if self.short_markov {
+            ", a Gauss-Markov bias shorter than three dwell spacings searched beside flicker and walk (it explains the dwell means' scatter far better)"
+        } else {
+            ""
+        };
+        format!("under the noise estimated with {models}{markov}{scaled}")
     }
 }
 
@@ -96,6 +104,14 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
         y: met[k].y,
         ..base.clone()
     };
+    // A short Gauss-Markov bias where it shows, as `nf fit` searches it: flicker's reading of
+    // it put a wander at the run's frequency in the sigma (480" for an error of 100").
+    let markov = noise_fit::fast_markov_shows(&base);
+    let colours = if markov {
+        Colours::WithFastMarkov
+    } else {
+        Colours::FlickerAndWalk
+    };
     let mut judged: Vec<Option<Judged>> = (0..met.len()).map(|_| None).collect();
     // The models that explain the same rates share their noise models' factors.
     let mut done = vec![false; met.len()];
@@ -105,10 +121,10 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
         }
         let group: Vec<usize> = (i..met.len()).filter(|&k| met[k].y == met[i].y).collect();
         let more: Vec<&[Vec<f64>]> = group[1..].iter().map(|&k| designs[k].as_slice()).collect();
-        let estimates = noise_est::estimate_all(data(i), &more, Colours::FlickerAndWalk);
+        let estimates = noise_est::estimate_all(data(i), &more, colours);
         for (&k, e) in group.iter().zip(estimates) {
             done[k] = true;
-            judged[k] = e.and_then(|e| judge(e, designs[k].len() + met[k].scanned, d.n()));
+            judged[k] = e.and_then(|e| judge(e, designs[k].len() + met[k].scanned, d.n(), markov));
         }
     }
     let top = (0..met.len())
@@ -121,7 +137,7 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
     let (supported, _) = lead.estimate.supported();
     let calibration = if supported.model.is_coloured() {
         let truth = azimuth(&supported.coef, &supported.cov);
-        let refit = |r: noise_est::Data<'_>| noise_est::estimate(r, Colours::FlickerAndWalk).and_then(|e| averaged(&e));
+        let refit = |r: noise_est::Data<'_>| noise_est::estimate(r, colours).and_then(|e| averaged(&e, markov));
         let lead_data = data(top);
         noise_calib::calibrate(&lead_data, &supported.model, &supported.coef, &truth, replicates, refit)
     } else {
@@ -139,6 +155,7 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
         calibration,
         residual_dof: None,
         models,
+        short_markov: markov,
     })
 }
 
@@ -182,6 +199,7 @@ fn by_residuals(n: usize, designs: &[Vec<Vec<f64>>], met: &[Met]) -> Option<Fina
         calibration: None,
         residual_dof: Some(lead.dof),
         models,
+        short_markov: false,
     })
 }
 
@@ -213,20 +231,21 @@ fn merged(designs: &[Vec<Vec<f64>>], met: &[Met], weights: &[f64]) -> Vec<Option
 }
 
 /// A model's verdict over its noise models and its evidence: the full likelihood summed over
-/// the grid's flicker-and-walk models (each the same prior weight) less half a log n for
-/// each of its `params` (columns and scanned parameters).
-fn judge(estimate: noise_est::Estimate, params: usize, n: usize) -> Option<Judged> {
+/// the grid's flicker-and-walk models (and its short Gauss-Markov ones where `markov`; each
+/// the same prior weight) less half a log n for each of its `params` (columns and scanned
+/// parameters).
+fn judge(estimate: noise_est::Estimate, params: usize, n: usize, markov: bool) -> Option<Judged> {
     let likelihoods: Vec<f64> = estimate
         .grid
         .iter()
-        .filter(|c| Term::GaussMarkov.absent(&c.model))
+        .filter(|c| markov || Term::GaussMarkov.absent(&c.model))
         .map(|c| c.full_loglik)
         .collect();
     let top = likelihoods.iter().copied().fold(f64::MIN, f64::max);
     let marginal = top + likelihoods.iter().map(|l| (l - top).exp()).sum::<f64>().ln();
     let penalty = 0.5 * params as f64 * (n as f64).ln();
     Some(Judged {
-        verdict: averaged(&estimate)?,
+        verdict: averaged(&estimate, markov)?,
         log_evidence: marginal - penalty,
         estimate,
     })
@@ -234,8 +253,8 @@ fn judge(estimate: noise_est::Estimate, params: usize, n: usize) -> Option<Judge
 
 /// The azimuth and amplitude averaged over the plausible models by their likelihood, each
 /// variance the mean of theirs plus the spread between them.
-fn averaged(e: &noise_est::Estimate) -> Option<Verdict> {
-    let fits: Vec<(f64, Verdict)> = plausible_candidates(e)
+fn averaged(e: &noise_est::Estimate, markov: bool) -> Option<Verdict> {
+    let fits: Vec<(f64, Verdict)> = plausible_candidates(e, markov)
         .into_iter()
         .map(|(w, c)| (w, azimuth(&c.coef, &c.cov)))
         .collect();

@@ -330,12 +330,20 @@ pub struct AfterEffects {
 /// likelihood, weighted by it (a Gauss-Markov model's sigma is too small when averaged: see
 /// [`noise_est::Colours`]).
 fn plausible(e: &noise_est::Estimate) -> Vec<(f64, NoiseModel)> {
-    plausible_candidates(e).into_iter().map(|(w, c)| (w, c.model)).collect()
+    plausible_candidates(e, false)
+        .into_iter()
+        .map(|(w, c)| (w, c.model))
+        .collect()
 }
 
-/// [`plausible`]'s models with their fits, the most likely first.
-pub(super) fn plausible_candidates(e: &noise_est::Estimate) -> Vec<(f64, &Candidate)> {
-    let wander = || flicker_and_walk(e);
+/// [`plausible`]'s models with their fits, the most likely first; the Gauss-Markov ones too
+/// where `markov` (a short one, searched where it shows: `noise_fit::fast_markov_shows`).
+pub(super) fn plausible_candidates(e: &noise_est::Estimate, markov: bool) -> Vec<(f64, &Candidate)> {
+    let wander = || {
+        std::iter::once(&e.best)
+            .chain(&e.grid)
+            .filter(move |c| markov || Term::GaussMarkov.absent(&c.model))
+    };
     let top = wander().map(|c| c.loglik).fold(f64::MIN, f64::max);
     let kept: Vec<(f64, &Candidate)> = wander()
         .map(|c| ((c.loglik - top).exp(), c))
