@@ -38,6 +38,11 @@ fn plan_budget_target_and_monte_carlo() {
         "{out}"
     );
     assert!(!out.contains("planned run"), "{out}");
+    // The plan's sigma assumes the fit knows the noise model: it says so.
+    assert!(
+        out.contains("these sigmas are GLS's under the noise model given: fit the run with it"),
+        "{out}"
+    );
     let (_, out, _) = nf(&["plan", "--mc-runs", "0"]);
     assert!(out.starts_with("planned run: n = 72, dwell 2 s"), "{out}");
     // A sensor's short filter tail (an outside audit: the ADIS16405 as nf allan fits it) is
