@@ -258,11 +258,9 @@ pub fn fit(
         spread: &spread,
         extra: None,
     };
-    let colours = match choice {
-        _ if n == p => Colours::White,
-        NoiseChoice::Estimate => colours_of(&data),
-        NoiseChoice::Given(..) if shock_tails(&cols, y).is_some() => Colours::WithShocks,
-        NoiseChoice::Given(..) => Colours::FlickerAndWalk,
+    let colours = match n == p {
+        true => Colours::White,
+        false => colours_of(&data, matches!(choice, NoiseChoice::Estimate)),
     };
     let (model, source, v, carried) = match choice {
         NoiseChoice::Given(m, s) => {
@@ -582,11 +580,11 @@ fn estimate(data: Data<'_>, colours: Colours) -> Option<(Estimate, usize)> {
 /// [`SHOCK_TAILS`]) are shocks: the short Gauss-Markov family joins flicker and walk, so that
 /// their scatter beyond the quarters is not taken for wander. Gaussian ones whose scatter a
 /// short Gauss-Markov bias explains by [`FAST_MARKOV_GATE`] better than flicker and walk do
-/// get that family too.
-fn colours_of(data: &Data) -> Colours {
+/// get that family too, where the noise is `estimated` (a given model has its own terms).
+fn colours_of(data: &Data, estimated: bool) -> Colours {
     if shock_tails(data.cols, data.y).is_some() {
         Colours::WithShocks
-    } else if fast_markov_shows(data) {
+    } else if estimated && fast_markov_shows(data) {
         Colours::WithFastMarkov
     } else {
         Colours::FlickerAndWalk

@@ -15,7 +15,7 @@
 use super::data::Data;
 use super::noise::{plausible_candidates, short_time, with_bursts_held_out};
 use crate::noise_calib::{self, Calibration, Verdict};
-use crate::noise_est::{self, Colours, THINNED, Term};
+use crate::noise_est::{self, Colours, THINNED};
 use crate::noise_fit::{self, azimuth};
 use crate::student_fit;
 use nf_model::angle::wrap_180;
@@ -124,7 +124,7 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
         let estimates = noise_est::estimate_all(data(i), &more, colours);
         for (&k, e) in group.iter().zip(estimates) {
             done[k] = true;
-            judged[k] = e.and_then(|e| judge(e, designs[k].len() + met[k].scanned, d.n(), markov));
+            judged[k] = e.and_then(|e| judge(e, designs[k].len() + met[k].scanned, d.n()));
         }
     }
     let top = (0..met.len())
@@ -137,7 +137,7 @@ pub fn final_verdict(d: &Data, met: &[Met], replicates: usize) -> Option<FinalSi
     let (supported, _) = lead.estimate.supported();
     let calibration = if supported.model.is_coloured() {
         let truth = azimuth(&supported.coef, &supported.cov);
-        let refit = |r: noise_est::Data<'_>| noise_est::estimate(r, colours).and_then(|e| averaged(&e, markov));
+        let refit = |r: noise_est::Data<'_>| noise_est::estimate(r, colours).and_then(|e| averaged(&e));
         let lead_data = data(top);
         noise_calib::calibrate(&lead_data, &supported.model, &supported.coef, &truth, replicates, refit)
     } else {
@@ -231,21 +231,16 @@ fn merged(designs: &[Vec<Vec<f64>>], met: &[Met], weights: &[f64]) -> Vec<Option
 }
 
 /// A model's verdict over its noise models and its evidence: the full likelihood summed over
-/// the grid's flicker-and-walk models (and its short Gauss-Markov ones where `markov`; each
-/// the same prior weight) less half a log n for each of its `params` (columns and scanned
-/// parameters).
-fn judge(estimate: noise_est::Estimate, params: usize, n: usize, markov: bool) -> Option<Judged> {
-    let likelihoods: Vec<f64> = estimate
-        .grid
-        .iter()
-        .filter(|c| markov || Term::GaussMarkov.absent(&c.model))
-        .map(|c| c.full_loglik)
-        .collect();
+/// the grid's models (flicker and walk, and the short Gauss-Markov ones where they were
+/// searched; each the same prior weight) less half a log n for each of its `params` (columns
+/// and scanned parameters).
+fn judge(estimate: noise_est::Estimate, params: usize, n: usize) -> Option<Judged> {
+    let likelihoods: Vec<f64> = estimate.grid.iter().map(|c| c.full_loglik).collect();
     let top = likelihoods.iter().copied().fold(f64::MIN, f64::max);
     let marginal = top + likelihoods.iter().map(|l| (l - top).exp()).sum::<f64>().ln();
     let penalty = 0.5 * params as f64 * (n as f64).ln();
     Some(Judged {
-        verdict: averaged(&estimate, markov)?,
+        verdict: averaged(&estimate)?,
         log_evidence: marginal - penalty,
         estimate,
     })
@@ -253,8 +248,9 @@ fn judge(estimate: noise_est::Estimate, params: usize, n: usize, markov: bool) -
 
 /// The azimuth and amplitude averaged over the plausible models by their likelihood, each
 /// variance the mean of theirs plus the spread between them.
-fn averaged(e: &noise_est::Estimate, markov: bool) -> Option<Verdict> {
-    let fits: Vec<(f64, Verdict)> = plausible_candidates(e, markov)
+fn averaged(e: &noise_est::Estimate) -> Option<Verdict> {
+    // Every model the estimate searched: its Gauss-Markov ones are the short ones, where they show.
+    let fits: Vec<(f64, Verdict)> = plausible_candidates(e, true)
         .into_iter()
         .map(|(w, c)| (w, azimuth(&c.coef, &c.cov)))
         .collect();
